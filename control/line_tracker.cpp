@@ -1,0 +1,72 @@
+#include "control/line_tracker.h"
+
+#include <cmath>
+
+namespace agv::control {
+namespace {
+
+bool differs(const BodyTwist& a, const BodyTwist& b) {
+  constexpr double kEps = 1e-12;
+  return std::abs(a.vx_m_s - b.vx_m_s) > kEps || std::abs(a.vy_m_s - b.vy_m_s) > kEps ||
+         std::abs(a.wz_rad_s - b.wz_rad_s) > kEps;
+}
+
+}  // namespace
+
+LineTracker::LineTracker(std::unique_ptr<PathController> controller, const VehicleLimits& limits,
+                         const Options& options, const BodyTwist& initial_command)
+    : controller_(std::move(controller)),
+      limits_(limits),
+      options_(options),
+      previous_command_(initial_command) {}
+
+TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, double now_s) {
+  if (!first_step_s_) first_step_s_ = now_s;
+  if (newest) {
+    line_lost_ = !newest->line_found;
+    if (newest->line_found) last_good_ = newest;
+  }
+
+  TrackerOutput out;
+  if (line_lost_) out.flags |= kLineLost;
+  BodyTwist desired;
+  const bool recent_good =
+      last_good_ && (!line_lost_ || now_s - last_good_->stamp_s <= options_.line_lost_hold_s);
+  if (recent_good) {
+    if (stopped_tracking_) controller_->reset();
+    stopped_tracking_ = false;
+    if (line_lost_) out.flags |= kHolding;
+    TrackingEstimate estimate{last_good_->e_theta_rad, last_good_->e_d_m,
+                              last_good_->curvature_1_m, now_s - last_good_->stamp_s};
+    if (options_.latency_compensation) {
+      const TrackingError predicted = history_.predict(
+          {estimate.e_theta_rad, estimate.e_d_m}, estimate.curvature_1_m, last_good_->stamp_s,
+          now_s);
+      estimate.e_theta_rad = predicted.e_theta_rad;
+      estimate.e_d_m = predicted.e_d_m;
+    }
+    const ControlContext context{options_.ts_s, options_.path_speed_m_s, previous_command_,
+                                 limits_};
+    const ControllerOutput controlled = controller_->update(estimate, context);
+    desired = controlled.command;
+    out.horizon_steps = controlled.horizon_steps;
+    if (controlled.no_feasible_horizon) out.flags |= kNoFeasibleHorizon;
+    out.has_estimate = true;
+    out.estimate = estimate;
+  } else if (!last_good_ && now_s - *first_step_s_ <= options_.line_lost_hold_s) {
+    out.flags |= kNoMeasurementYet;
+    desired = previous_command_;
+  } else {
+    out.flags |= kStopping;
+    stopped_tracking_ = true;
+    desired = BodyTwist{};
+  }
+
+  out.command = limit_command(desired, previous_command_, limits_, options_.ts_s);
+  if (differs(out.command, desired)) out.flags |= kSaturated;
+  history_.record(now_s, out.command);
+  previous_command_ = out.command;
+  return out;
+}
+
+}  // namespace agv::control

@@ -1,0 +1,66 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "common/line_measurement.h"
+#include "control/error_prediction.h"
+#include "control/path_controller.h"
+
+namespace agv::control {
+
+// Bits of TrackerOutput::flags.
+enum TrackerFlag : std::uint32_t {
+  kLineLost = 1u << 0,           // the newest measurement found no line
+  kHolding = 1u << 1,            // tracking the last good estimate while the line is lost
+  kStopping = 1u << 2,           // line lost for longer than the hold time: braking to a stop
+  kNoFeasibleHorizon = 1u << 3,  // the controller found no N within the limits
+  kSaturated = 1u << 4,          // the vehicle limits changed the controller's command
+  kNoMeasurementYet = 1u << 5,   // nothing measured since start: the last command is kept
+};
+
+struct TrackerOutput {
+  BodyTwist command;               // within the vehicle limits, always
+  std::uint32_t flags = 0;
+  int horizon_steps = 0;
+  bool has_estimate = false;
+  TrackingEstimate estimate;       // what the controller acted on (after latency prediction)
+};
+
+// Runs a PathController once per period on the newest measurement and makes every command safe:
+// a lost line is tracked on the last good estimate for `line_lost_hold_s`, then the vehicle is
+// braked to a stop within its acceleration limit and waits until the line is seen again. With
+// latency compensation on, the error is predicted from the frame's time to now with the
+// commands already sent (as Nav2 MPPI's model delay and Autoware MPC's input delay do).
+class LineTracker {
+ public:
+  struct Options {
+    double ts_s = 0.1;
+    double path_speed_m_s = 0.3;
+    double line_lost_hold_s = 0.3;
+    bool latency_compensation = true;
+  };
+
+  LineTracker(std::unique_ptr<PathController> controller, const VehicleLimits& limits,
+              const Options& options, const BodyTwist& initial_command);
+
+  // One control period at now_s. `newest` is the newest measurement that arrived since the
+  // previous call, if any.
+  TrackerOutput step(const std::optional<LineMeasurement>& newest, double now_s);
+
+  const PathController& controller() const { return *controller_; }
+
+ private:
+  std::unique_ptr<PathController> controller_;
+  VehicleLimits limits_;
+  Options options_;
+  BodyTwist previous_command_;
+  CommandHistory history_;
+  std::optional<LineMeasurement> last_good_;
+  bool line_lost_ = false;
+  bool stopped_tracking_ = false;
+  std::optional<double> first_step_s_;
+};
+
+}  // namespace agv::control

@@ -1,0 +1,156 @@
+#include "control/path.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+#include "common/angles.h"
+
+namespace agv::control {
+namespace {
+
+constexpr double kStraightCurvature_1_m = 1e-12;
+
+Eigen::Vector2d unit(double heading_rad) { return {std::cos(heading_rad), std::sin(heading_rad)}; }
+Eigen::Vector2d left_normal(double heading_rad) {
+  return {-std::sin(heading_rad), std::cos(heading_rad)};
+}
+
+}  // namespace
+
+Eigen::Vector2d PathSegment::point_at(double s_m) const {
+  if (std::abs(curvature_1_m) < kStraightCurvature_1_m) {
+    return start + s_m * unit(start_heading_rad);
+  }
+  const double radius_m = 1.0 / curvature_1_m;  // signed
+  const Eigen::Vector2d centre = start + radius_m * left_normal(start_heading_rad);
+  return centre - radius_m * left_normal(start_heading_rad + curvature_1_m * s_m);
+}
+
+double PathSegment::heading_at(double s_m) const {
+  return wrap_angle_rad(start_heading_rad + curvature_1_m * s_m);
+}
+
+double PathSegment::closest_s(const Eigen::Vector2d& p) const {
+  if (std::abs(curvature_1_m) < kStraightCurvature_1_m) {
+    return std::clamp((p - start).dot(unit(start_heading_rad)), 0.0, length_m);
+  }
+  const double radius_m = 1.0 / curvature_1_m;
+  const Eigen::Vector2d centre = start + radius_m * left_normal(start_heading_rad);
+  const Eigen::Vector2d to_p = p - centre;
+  if (to_p.norm() < 1e-12) return 0.0;  // every point of the arc is equally close
+  // Angle swept from the start point to the ray through p, in the direction of travel.
+  const Eigen::Vector2d to_start = start - centre;
+  const double swept_rad = std::atan2(to_start.x() * to_p.y() - to_start.y() * to_p.x(),
+                                      to_start.dot(to_p));
+  double s_m = swept_rad / curvature_1_m;
+  const double circumference_m = 2.0 * std::numbers::pi * std::abs(radius_m);
+  if (s_m < 0.0) s_m += circumference_m;
+  if (s_m <= length_m) return s_m;
+  // Outside the arc: the nearer end point.
+  return (p - point_at(length_m)).norm() < (p - start).norm() ? length_m : 0.0;
+}
+
+Path::Path(std::vector<PathSegment> segments) : segments_(std::move(segments)) {
+  for (const PathSegment& segment : segments_) {
+    segment_start_s_m_.push_back(total_length_m_);
+    total_length_m_ += segment.length_m;
+  }
+  if (!segments_.empty()) {
+    start_pose_ = {segments_.front().start.x(), segments_.front().start.y(),
+                   segments_.front().start_heading_rad};
+  }
+}
+
+Path Path::starting_at(const Pose2& start) {
+  Path path;
+  path.start_pose_ = start;
+  return path;
+}
+
+Pose2 Path::end_pose() const {
+  if (segments_.empty()) return start_pose_;
+  const PathSegment& last = segments_.back();
+  return {last.end().x(), last.end().y(), last.end_heading_rad()};
+}
+
+Path& Path::add_line(double length_m) {
+  assert(length_m > 0.0);
+  const Pose2 end = end_pose();
+  segments_.push_back({end.translation(), end.yaw_rad, length_m, 0.0});
+  segment_start_s_m_.push_back(total_length_m_);
+  total_length_m_ += length_m;
+  return *this;
+}
+
+Path& Path::add_arc(double radius_m, double angle_rad) {
+  assert(radius_m > 0.0 && angle_rad != 0.0);
+  const Pose2 end = end_pose();
+  const double curvature_1_m = (angle_rad > 0.0 ? 1.0 : -1.0) / radius_m;
+  const double length_m = radius_m * std::abs(angle_rad);
+  segments_.push_back({end.translation(), end.yaw_rad, length_m, curvature_1_m});
+  segment_start_s_m_.push_back(total_length_m_);
+  total_length_m_ += length_m;
+  return *this;
+}
+
+int Path::segment_index_at(double s_m) const {
+  assert(!segments_.empty());
+  const auto it = std::upper_bound(segment_start_s_m_.begin(), segment_start_s_m_.end(), s_m);
+  return std::max(0, static_cast<int>(it - segment_start_s_m_.begin()) - 1);
+}
+
+Eigen::Vector2d Path::point_at(double s_m) const {
+  s_m = std::clamp(s_m, 0.0, total_length_m_);
+  const int i = segment_index_at(s_m);
+  return segments_[i].point_at(s_m - segment_start_s_m_[i]);
+}
+
+double Path::heading_at(double s_m) const {
+  s_m = std::clamp(s_m, 0.0, total_length_m_);
+  const int i = segment_index_at(s_m);
+  return segments_[i].heading_at(s_m - segment_start_s_m_[i]);
+}
+
+double Path::curvature_at(double s_m) const {
+  return segments_[segment_index_at(std::clamp(s_m, 0.0, total_length_m_))].curvature_1_m;
+}
+
+PathProjection Path::project(const Eigen::Vector2d& p, std::optional<double> s_hint_m,
+                             double window_m) const {
+  assert(!segments_.empty());
+  PathProjection best;
+  double best_distance_m = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < static_cast<int>(segments_.size()); ++i) {
+    const double s0 = segment_start_s_m_[i];
+    const double s1 = s0 + segments_[i].length_m;
+    if (s_hint_m && (s1 < *s_hint_m - window_m || s0 > *s_hint_m + window_m)) continue;
+    const double local_s = segments_[i].closest_s(p);
+    const Eigen::Vector2d foot = segments_[i].point_at(local_s);
+    const double distance_m = (p - foot).norm();
+    if (distance_m < best_distance_m) {
+      best_distance_m = distance_m;
+      best.s_m = s0 + local_s;
+      best.point = foot;
+      best.segment = i;
+    }
+  }
+  if (!std::isfinite(best_distance_m)) return project(p);  // hint matched nothing: search all
+  const PathSegment& segment = segments_[best.segment];
+  const double local_s = best.s_m - segment_start_s_m_[best.segment];
+  best.heading_rad = segment.heading_at(local_s);
+  best.curvature_1_m = segment.curvature_1_m;
+  best.distance_m = best_distance_m;
+  best.lateral_m = (p - best.point).dot(left_normal(best.heading_rad));
+  const double along_m = (p - best.point).dot(unit(best.heading_rad));
+  best.before_start = best.s_m <= 0.0 && along_m < 0.0;
+  best.after_end = best.s_m >= total_length_m_ && along_m > 0.0;
+  return best;
+}
+
+TrackingError Path::tracking_error(const Pose2& vehicle, const PathProjection& foot) const {
+  return {wrap_angle_rad(vehicle.yaw_rad - foot.heading_rad), foot.lateral_m};
+}
+
+}  // namespace agv::control

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "common/pose2.h"
+
+namespace agv::control {
+
+// One piece of a path: a straight line (curvature 0) or a circular arc of constant signed
+// curvature (left turn positive), starting at `start` with tangent heading `start_heading_rad`.
+struct PathSegment {
+  Eigen::Vector2d start = Eigen::Vector2d::Zero();
+  double start_heading_rad = 0.0;
+  double length_m = 0.0;
+  double curvature_1_m = 0.0;
+
+  Eigen::Vector2d point_at(double s_m) const;
+  double heading_at(double s_m) const;
+  Eigen::Vector2d end() const { return point_at(length_m); }
+  double end_heading_rad() const { return heading_at(length_m); }
+  // Arc length (clamped to [0, length]) of the closest point of this segment to p.
+  double closest_s(const Eigen::Vector2d& p) const;
+};
+
+// Foot point of a query point on the path: where, which way the path goes there, and the
+// signed lateral offset of the query point (positive: left of the path, seen along travel).
+struct PathProjection {
+  double s_m = 0.0;
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  double heading_rad = 0.0;
+  double curvature_1_m = 0.0;
+  double lateral_m = 0.0;
+  double distance_m = 0.0;  // unsigned distance to the foot point
+  int segment = 0;
+  bool before_start = false;  // the foot point is the start point and p lies behind it
+  bool after_end = false;     // the foot point is the end point and p lies past it
+};
+
+// Heading and lateral error of a vehicle pose at its foot point, as DESIGN.md defines them.
+struct TrackingError {
+  double e_theta_rad = 0.0;
+  double e_d_m = 0.0;
+};
+
+// A guide path: a chain of segments joined end to start, directed along the travel direction.
+class Path {
+ public:
+  Path() = default;
+  explicit Path(std::vector<PathSegment> segments);
+
+  // Builder helpers: each appends a piece that starts where the path ends now.
+  static Path starting_at(const Pose2& start);
+  Path& add_line(double length_m);
+  Path& add_arc(double radius_m, double angle_rad);  // angle > 0 turns left
+
+  const std::vector<PathSegment>& segments() const { return segments_; }
+  double length_m() const { return total_length_m_; }
+  bool empty() const { return segments_.empty(); }
+
+  Eigen::Vector2d point_at(double s_m) const;
+  double heading_at(double s_m) const;
+  double curvature_at(double s_m) const;
+
+  // Closest point on the path. With s_hint_m, only pieces within window_m of arc length of the
+  // hint are searched, so that a path that passes near itself does not make the foot jump.
+  PathProjection project(const Eigen::Vector2d& p, std::optional<double> s_hint_m = std::nullopt,
+                         double window_m = 1.0) const;
+
+  TrackingError tracking_error(const Pose2& vehicle, const PathProjection& foot) const;
+
+ private:
+  int segment_index_at(double s_m) const;
+  Pose2 end_pose() const;
+
+  std::vector<PathSegment> segments_;
+  std::vector<double> segment_start_s_m_;
+  double total_length_m_ = 0.0;
+  Pose2 start_pose_;
+};
+
+}  // namespace agv::control

@@ -1,0 +1,43 @@
+#pragma once
+
+#include <string>
+
+#include "common/body_twist.h"
+#include "control/vehicle_limits.h"
+
+namespace agv::control {
+
+// The controller's best knowledge of the tracking error at the time the command is computed.
+struct TrackingEstimate {
+  double e_theta_rad = 0.0;
+  double e_d_m = 0.0;
+  double curvature_1_m = 0.0;  // path curvature at the foot point, left turn positive
+  double age_s = 0.0;          // age of the measurement it came from (before prediction)
+};
+
+// What a controller needs to know besides the error, once per control period.
+struct ControlContext {
+  double ts_s = 0.1;
+  double path_speed_m_s = 0.3;       // v_tau: speed along the path
+  BodyTwist previous_command;        // the command sent last period
+  VehicleLimits limits;
+};
+
+struct ControllerOutput {
+  BodyTwist command;
+  int horizon_steps = 0;             // finite-step controllers: N used this period
+  bool no_feasible_horizon = false;  // no N in range met the limits; the command is saturated
+};
+
+// A path-tracking law from (e_theta, e_d) to a body twist, called once per control period.
+// The caller (LineTracker) handles line loss and applies the vehicle limits afterwards.
+class PathController {
+ public:
+  virtual ~PathController() = default;
+  virtual ControllerOutput update(const TrackingEstimate& estimate, const ControlContext& context) = 0;
+  // Forget internal state (a manoeuvre under way, integrators): called when tracking restarts.
+  virtual void reset() = 0;
+  virtual std::string name() const = 0;
+};
+
+}  // namespace agv::control

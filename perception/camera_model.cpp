@@ -1,0 +1,67 @@
+#include "perception/camera_model.h"
+
+#include <opencv2/calib3d.hpp>
+
+namespace agv::perception {
+namespace {
+
+// Rays closer to horizontal than this never meet the floor within a useful range.
+constexpr double kMinDownwardRayComponent = 1e-6;
+
+}  // namespace
+
+CameraModel::CameraModel(const CameraIntrinsics& intrinsics, const MountPose& mount)
+    : intrinsics_(intrinsics),
+      mount_(mount),
+      r_vc_(mount.rotation()),
+      camera_matrix_(cv::Mat(intrinsics.camera_matrix)),
+      distortion_(intrinsics.distortion.empty()
+                      ? cv::Mat()
+                      : cv::Mat(intrinsics.distortion, true).reshape(1, 1)) {}
+
+std::vector<cv::Point2d> CameraModel::undistort(const std::vector<cv::Point2d>& pixels) const {
+  std::vector<cv::Point2d> normalised;
+  if (pixels.empty()) return normalised;
+  // OpenCV's default is 5 fixed-point iterations: not enough for metric accuracy at the corners.
+  cv::undistortPoints(pixels, normalised, camera_matrix_, distortion_, cv::noArray(),
+                      cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+  return normalised;
+}
+
+void CameraModel::pixels_to_floor(const std::vector<cv::Point2d>& pixels,
+                                  std::vector<Eigen::Vector2d>* floor,
+                                  std::vector<bool>* valid) const {
+  const std::vector<cv::Point2d> normalised = undistort(pixels);
+  floor->assign(pixels.size(), Eigen::Vector2d::Zero());
+  valid->assign(pixels.size(), false);
+  const Eigen::Vector3d& t = mount_.xyz_m;
+  for (size_t i = 0; i < normalised.size(); ++i) {
+    const Eigen::Vector3d ray = r_vc_ * Eigen::Vector3d(normalised[i].x, normalised[i].y, 1.0);
+    if (ray.z() > -kMinDownwardRayComponent) continue;
+    const double scale = -t.z() / ray.z();
+    if (scale <= 0.0) continue;
+    (*floor)[i] = (t + scale * ray).head<2>();
+    (*valid)[i] = true;
+  }
+}
+
+std::optional<Eigen::Vector2d> CameraModel::pixel_to_floor(const cv::Point2d& pixel) const {
+  std::vector<Eigen::Vector2d> floor;
+  std::vector<bool> valid;
+  pixels_to_floor({pixel}, &floor, &valid);
+  if (!valid[0]) return std::nullopt;
+  return floor[0];
+}
+
+std::optional<cv::Point2d> CameraModel::vehicle_to_pixel(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d p_camera = r_vc_.transpose() * (p - mount_.xyz_m);
+  if (p_camera.z() <= 1e-9) return std::nullopt;
+  std::vector<cv::Point3d> object{{p_camera.x(), p_camera.y(), p_camera.z()}};
+  std::vector<cv::Point2d> image;
+  cv::projectPoints(object, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera_matrix_, distortion_,
+                    image);
+  return image[0];
+}
+
+}  // namespace agv::perception

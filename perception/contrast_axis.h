@@ -1,0 +1,30 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <optional>
+
+namespace agv::perception {
+
+// A linear map from pixel colour to "tape-ness": s = w . bgr + offset, about 0 on the floor and
+// about 1 on the tape. Linear, so that it keeps the shape of blurred edges: a soft edge in the
+// image is a soft edge in s, with its half-way point in the same place.
+struct ContrastAxis {
+  cv::Vec3f weights = {0, 0, 0};  // for grey images only weights[0] is used
+  float offset = 0.0f;
+  bool from_hint = false;         // the tape colour came from the caller, not the image
+
+  float apply(const cv::Vec3b& bgr) const {
+    return weights[0] * bgr[0] + weights[1] * bgr[1] + weights[2] * bgr[2] + offset;
+  }
+  float apply(unsigned char grey) const { return weights[0] * grey + offset; }
+};
+
+// Estimates the axis from a (downsampled) frame: the floor colour is the per-channel median
+// (the tape covers well under half of the view); the tape colour is `tape_hint_bgr` when given
+// and distinct from the floor, otherwise the mean colour of the pixels that differ most from the
+// floor, on their dominant side. Works for dark-on-light and light-on-dark tape, grey or colour
+// frames. Returns nullopt when the frame is flat (nothing differs from the floor).
+std::optional<ContrastAxis> estimate_contrast_axis(const cv::Mat& frame,
+                                                   const std::optional<cv::Vec3d>& tape_hint_bgr);
+
+}  // namespace agv::perception

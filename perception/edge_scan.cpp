@@ -1,0 +1,103 @@
+#include "perception/edge_scan.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace agv::perception {
+namespace {
+
+float median_of(std::vector<float> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+// Contrast samples along a line of pixels starting at `first`, `stride` bytes apart.
+void sample_contrast(const unsigned char* first, size_t stride, int count, int channels,
+                     const ContrastAxis& axis, std::vector<float>* out) {
+  out->resize(count);
+  for (int i = 0; i < count; ++i) {
+    const unsigned char* p = first + i * stride;
+    (*out)[i] = channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
+  }
+}
+
+}  // namespace
+
+std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                      const TapeRegions& coarse, const TapeRegion& region,
+                                      const EdgeScanOptions& options) {
+  std::vector<EdgePair> edges;
+  const int ds = coarse.downsample;
+  const bool along_rows = std::abs(region.direction.y) >= std::abs(region.direction.x);
+  const int channels = frame.channels();
+  const size_t pixel_bytes = frame.elemSize();
+  const int line_length = along_rows ? frame.cols : frame.rows;  // samples on one scan line
+  const cv::Rect& box = region.box_small;
+  const int first_line = (along_rows ? box.y : box.x) * ds;
+  const int last_line = std::min((along_rows ? box.br().y : box.br().x) * ds,
+                                 along_rows ? frame.rows : frame.cols) - 1;
+  const cv::Mat& labels = coarse.labels_small;
+  std::vector<float> raw, profile;
+
+  for (int line = first_line; line <= last_line; line += options.step) {
+    // Extent of the region on this line, from the coarse labels.
+    const int small_line = std::min(line / ds, along_rows ? labels.rows - 1 : labels.cols - 1);
+    int lo_small = -1, hi_small = -1;
+    const int small_count = along_rows ? labels.cols : labels.rows;
+    for (int i = 0; i < small_count; ++i) {
+      const int label = along_rows ? labels.at<int>(small_line, i) : labels.at<int>(i, small_line);
+      if (label != region.label) continue;
+      if (lo_small < 0) lo_small = i;
+      hi_small = i;
+    }
+    if (lo_small < 0) continue;
+    const int lo = lo_small * ds - options.margin_px;
+    const int hi = hi_small * ds + ds - 1 + options.margin_px;
+    if (lo < 0 || hi >= line_length) continue;  // no floor on one side: the edge is unknowable
+    const int count = hi - lo + 1;
+    const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes
+                                            : frame.ptr<unsigned char>(lo) + line * pixel_bytes;
+    const size_t stride = along_rows ? pixel_bytes : frame.step[0];
+    sample_contrast(first, stride, count, channels, axis, &raw);
+    // A symmetric [1 2 1] / 4 smoothing lowers noise without moving a symmetric edge.
+    profile.resize(count);
+    profile[0] = raw[0];
+    profile[count - 1] = raw[count - 1];
+    for (int i = 1; i + 1 < count; ++i) profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
+
+    const int side = std::max(3, options.margin_px / 2);
+    const float floor_first = median_of({profile.begin(), profile.begin() + side});
+    const float floor_second = median_of({profile.end() - side, profile.end()});
+    const int peak = static_cast<int>(std::max_element(profile.begin(), profile.end()) - profile.begin());
+    // Tape level: median of the samples in the upper half between floor and peak.
+    const float floor_level = 0.5f * (floor_first + floor_second);
+    const float upper = 0.5f * (floor_level + profile[peak]);
+    std::vector<float> tape_samples;
+    for (float v : profile) if (v > upper) tape_samples.push_back(v);
+    const float tape_level = median_of(tape_samples);
+    const float contrast = tape_level - floor_level;
+    if (contrast < options.min_contrast_to_noise * std::max(coarse.floor_noise, 0.01f)) continue;
+
+    // Walk outwards from the peak to the half-way crossings, each against its own floor level.
+    const float threshold_first = 0.5f * (floor_first + tape_level);
+    const float threshold_second = 0.5f * (floor_second + tape_level);
+    int i = peak;
+    while (i > 0 && profile[i] >= threshold_first) --i;
+    if (i == 0 || i < side / 2) continue;
+    const float first_pos = i + (threshold_first - profile[i]) / (profile[i + 1] - profile[i]);
+    int j = peak;
+    while (j < count - 1 && profile[j] >= threshold_second) ++j;
+    if (j == count - 1 || j > count - 1 - side / 2) continue;
+    const float second_pos = j - (threshold_second - profile[j]) / (profile[j - 1] - profile[j]);
+
+    EdgePair pair;
+    pair.contrast = contrast;
+    const float a = lo + first_pos, b = lo + second_pos;
+    pair.first_px = along_rows ? cv::Point2f(a, static_cast<float>(line)) : cv::Point2f(static_cast<float>(line), a);
+    pair.second_px = along_rows ? cv::Point2f(b, static_cast<float>(line)) : cv::Point2f(static_cast<float>(line), b);
+    edges.push_back(pair);
+  }
+  return edges;
+}
+
+}  // namespace agv::perception

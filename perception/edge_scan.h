@@ -1,0 +1,33 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "perception/contrast_axis.h"
+#include "perception/tape_regions.h"
+
+namespace agv::perception {
+
+// The two edges of the tape on one scan line (an image row or column), to sub-pixel precision.
+// "first" is the edge at the lower coordinate along the scan line.
+struct EdgePair {
+  cv::Point2f first_px;
+  cv::Point2f second_px;
+  float contrast = 0.0f;  // tape level minus floor level on this scan line
+};
+
+struct EdgeScanOptions {
+  int margin_px = 8;                 // floor samples taken beyond the coarse region on each side
+  float min_contrast_to_noise = 5.0f;
+  int step = 1;                      // scan every step-th line
+};
+
+// Scans one coarse region at full resolution along rows (regions closer to vertical in the image)
+// or columns, and finds on each scan line the two places where the contrast crosses half-way
+// between the local floor level (each side separately) and the local tape level. Half-way
+// crossings of a blurred, symmetric edge sit on the true edge.
+std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                      const TapeRegions& coarse, const TapeRegion& region,
+                                      const EdgeScanOptions& options);
+
+}  // namespace agv::perception

@@ -1,0 +1,122 @@
+#include "perception/tape_regions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+namespace agv::perception {
+namespace {
+
+// Contrast values binned over [kLow, kHigh): medians and spreads come from the histogram.
+constexpr float kLow = -2.0f, kHigh = 3.0f;
+constexpr int kBins = 2000;
+constexpr float kBinWidth = (kHigh - kLow) / kBins;
+
+int bin_of(float value) {
+  return std::min(kBins - 1, std::max(0, static_cast<int>((value - kLow) / kBinWidth)));
+}
+float value_of(double bin) { return kLow + static_cast<float>(bin + 0.5) * kBinWidth; }
+
+// Median of the values in bins [first, last).
+float histogram_median(const std::vector<int>& histogram, int first, int last) {
+  long total = 0;
+  for (int b = first; b < last; ++b) total += histogram[b];
+  if (total == 0) return value_of(first);
+  long cumulative = 0;
+  for (int b = first; b < last; ++b) {
+    cumulative += histogram[b];
+    if (2 * cumulative >= total) return value_of(b);
+  }
+  return value_of(last - 1);
+}
+
+cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
+  cv::Mat contrast(frame.size(), CV_32F);
+  for (int y = 0; y < frame.rows; ++y) {
+    float* out = contrast.ptr<float>(y);
+    if (frame.channels() == 1) {
+      const unsigned char* in = frame.ptr<unsigned char>(y);
+      for (int x = 0; x < frame.cols; ++x) out[x] = axis.apply(in[x]);
+    } else {
+      const cv::Vec3b* in = frame.ptr<cv::Vec3b>(y);
+      for (int x = 0; x < frame.cols; ++x) out[x] = axis.apply(in[x]);
+    }
+  }
+  return contrast;
+}
+
+}  // namespace
+
+TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
+                              int min_area_small_px) {
+  TapeRegions result;
+  result.downsample = downsample;
+  result.contrast_small = contrast_of(small_frame, axis);
+  const cv::Mat& s = result.contrast_small;
+
+  std::vector<int> histogram(kBins, 0);
+  for (int y = 0; y < s.rows; ++y) {
+    const float* row = s.ptr<float>(y);
+    for (int x = 0; x < s.cols; ++x) ++histogram[bin_of(row[x])];
+  }
+  // ISODATA: the threshold settles half-way between the medians of the two classes. It never
+  // drops below 0.25, so that floor texture alone is not called tape on a tape-free frame.
+  float threshold = 0.5f;
+  for (int iteration = 0; iteration < 8; ++iteration) {
+    const int split = bin_of(threshold) + 1;
+    const float next = std::max(0.25f, 0.5f * (histogram_median(histogram, 0, split) +
+                                               histogram_median(histogram, split, kBins)));
+    if (std::abs(next - threshold) < kBinWidth) break;
+    threshold = next;
+  }
+  const int split = bin_of(threshold) + 1;
+  result.threshold = threshold;
+  result.floor_level = histogram_median(histogram, 0, split);
+  result.tape_level = histogram_median(histogram, split, kBins);
+  // Robust spread of the floor: median absolute deviation, from the same histogram.
+  std::vector<int> deviation(kBins, 0);
+  for (int b = 0; b < split; ++b) {
+    deviation[std::min(kBins - 1, static_cast<int>(std::abs(value_of(b) - result.floor_level) / kBinWidth))] += histogram[b];
+  }
+  result.floor_noise = 1.4826f * (histogram_median(deviation, 0, kBins) - kLow);
+
+  cv::Mat mask = s > threshold;
+  cv::Mat stats, centroids;
+  const int count = cv::connectedComponentsWithStats(mask, result.labels_small, stats, centroids, 8,
+                                                     CV_32S);
+  for (int label = 1; label < count; ++label) {
+    const int area = stats.at<int>(label, cv::CC_STAT_AREA);
+    if (area < min_area_small_px) continue;
+    TapeRegion region;
+    region.label = label;
+    region.area_small_px = area;
+    region.box_small = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
+                                stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
+    // Second moments of the region's pixels give its major axis.
+    const cv::Point2d c(centroids.at<double>(label, 0), centroids.at<double>(label, 1));
+    double sxx = 0, syy = 0, sxy = 0;
+    for (int y = region.box_small.y; y < region.box_small.br().y; ++y) {
+      const int* row = result.labels_small.ptr<int>(y);
+      for (int x = region.box_small.x; x < region.box_small.br().x; ++x) {
+        if (row[x] != label) continue;
+        const double dx = x - c.x, dy = y - c.y;
+        sxx += dx * dx;
+        syy += dy * dy;
+        sxy += dx * dy;
+      }
+    }
+    const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+    region.direction = {std::cos(angle), std::sin(angle)};
+    const double major_var = (sxx + syy) / 2.0 / area +
+                             std::sqrt(std::pow((sxx - syy) / 2.0 / area, 2) + std::pow(sxy / area, 2));
+    region.length_px = std::sqrt(12.0 * major_var) * downsample;
+    region.width_px = static_cast<double>(area) * downsample * downsample / std::max(region.length_px, 1.0);
+    region.centroid_px = {(c.x + 0.5) * downsample - 0.5, (c.y + 0.5) * downsample - 0.5};
+    result.regions.push_back(region);
+  }
+  std::sort(result.regions.begin(), result.regions.end(),
+            [](const TapeRegion& a, const TapeRegion& b) { return a.area_small_px > b.area_small_px; });
+  return result;
+}
+
+}  // namespace agv::perception

@@ -1,0 +1,38 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "perception/contrast_axis.h"
+
+namespace agv::perception {
+
+// A connected blob of tape-like pixels found on the downsampled contrast image.
+struct TapeRegion {
+  int label = 0;
+  int area_small_px = 0;
+  cv::Rect box_small;            // bounding box in the downsampled image
+  cv::Point2d centroid_px;       // full-resolution pixel coordinates
+  cv::Point2d direction;         // unit vector of the major axis in the image
+  double length_px = 0.0;        // extent along the major axis, full resolution
+  double width_px = 0.0;         // mean extent across it (area / length)
+};
+
+// The coarse stage of line detection: where in the image the tape may be.
+struct TapeRegions {
+  int downsample = 4;
+  cv::Mat contrast_small;        // CV_32F contrast on the downsampled frame
+  cv::Mat labels_small;          // CV_32S, 0 = background
+  float threshold = 0.5f;        // contrast level separating tape from floor
+  float floor_level = 0.0f;      // median contrast of the floor
+  float tape_level = 1.0f;       // median contrast of the tape-like pixels
+  float floor_noise = 0.0f;      // robust standard deviation of the floor contrast
+  std::vector<TapeRegion> regions;  // largest first
+};
+
+// Thresholds the contrast of a downsampled frame half-way between the floor and tape levels
+// (iterated, ISODATA) and returns its connected regions of at least min_area_small_px pixels.
+TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
+                              int min_area_small_px);
+
+}  // namespace agv::perception

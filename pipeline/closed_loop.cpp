@@ -1,0 +1,255 @@
+#include "pipeline/closed_loop.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "control/finite_step_controller.h"
+#include "control/pid_controller.h"
+#include "perception/line_estimator.h"
+#include "pipeline/frame_renderer.h"
+#include "pipeline/plant.h"
+#include "pipeline/scenario_loader.h"
+
+namespace agv::pipeline {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+Scene scene_of(const Scenario& s) {
+  Scene scene;
+  scene.tapes.push_back(s.tape);
+  scene.floor = s.floor;
+  scene.effects = s.effects;
+  scene.seed = s.seed;
+  return scene;
+}
+
+// Vehicle pose at the start: at arc length start_s_m, offset and turned by the initial errors.
+Pose2 start_pose(const Scenario& s) {
+  const Eigen::Vector2d foot = s.path.point_at(s.start_s_m);
+  const double heading = s.path.heading_at(s.start_s_m);
+  const Eigen::Vector2d left(-std::sin(heading), std::cos(heading));
+  const Eigen::Vector2d p = foot + s.initial_e_d_m * left;
+  return {p.x(), p.y(), wrap_angle_rad(heading + s.initial_e_theta_rad)};
+}
+
+BodyTwist start_twist(const Scenario& s) {
+  return {s.path_speed_m_s, 0.0, s.path.curvature_at(s.start_s_m) * s.path_speed_m_s};
+}
+
+control::LineTracker make_tracker(const Scenario& s) {
+  control::LineTracker::Options options;
+  options.ts_s = s.controller.ts_s;
+  options.path_speed_m_s = s.path_speed_m_s;
+  options.line_lost_hold_s = s.controller.line_lost_hold_s;
+  options.latency_compensation = s.controller.latency_compensation;
+  return control::LineTracker(make_controller(s), s.vehicle.limits, options, start_twist(s));
+}
+
+// Ground truth of a pose, keeping the foot point near the previous one.
+class TruthTracker {
+ public:
+  TruthTracker(const control::Path& path, double start_s_m) : path_(path), s_m_(start_s_m) {}
+  control::TrackingError operator()(const Pose2& pose) {
+    const control::PathProjection foot = path_.project(pose.translation(), s_m_, 0.5);
+    s_m_ = foot.s_m;
+    return path_.tracking_error(pose, foot);
+  }
+
+ private:
+  const control::Path& path_;
+  double s_m_;
+};
+
+TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose, const control::TrackingError& truth,
+                  const std::optional<StampedMeasurement>& newest, const control::TrackerOutput& output,
+                  const BodyTwist& previous_command) {
+  TraceRow row;
+  row.t_s = t_s;
+  row.pose = pose;
+  row.truth = truth;
+  if (newest) {
+    row.has_measurement = true;
+    row.measurement = newest->measurement;
+    row.measurement_age_s = t_s - newest->measurement.stamp_s;
+  }
+  row.output = output;
+  row.wheels_rad_s = control::mecanum_inverse(s.vehicle.mecanum, output.command);
+  row.violations = control::check_limits(output.command, previous_command, s.vehicle.limits, s.controller.ts_s);
+  return row;
+}
+
+}  // namespace
+
+std::unique_ptr<control::PathController> make_controller(const Scenario& scenario) {
+  if (scenario.controller.kind == "pid") return std::make_unique<control::PidController>(scenario.controller.pid);
+  return std::make_unique<control::FiniteStepController>(scenario.controller.finite_step);
+}
+
+RunResult run_lockstep(const Scenario& s, const Progress& progress) {
+  const Clock::time_point wall_start = Clock::now();
+  const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
+  const FrameRenderer renderer(camera, scene_of(s));
+  const perception::LineEstimator estimator(camera, perception_options(s));
+  control::LineTracker tracker = make_tracker(s);
+  Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
+  TruthTracker truth_of(s.path, s.start_s_m);
+  BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, QueuePolicy::kDropOldest);
+  std::deque<StampedMeasurement> in_flight;  // taken, not yet delivered (latency)
+
+  RunResult result;
+  result.controller_name = tracker.controller().name();
+  const double ts = s.controller.ts_s;
+  const int periods = static_cast<int>(std::floor(s.duration_s / ts + 1e-9)) + 1;
+  BodyTwist previous_command = start_twist(s);
+  std::optional<StampedMeasurement> newest;
+  cv::Mat frame;
+  for (int k = 0; k < periods; ++k) {
+    const double t = k * ts;
+    const Pose2 pose = plant.pose();
+    const control::TrackingError truth = truth_of(pose);
+
+    Clock::time_point t0 = Clock::now();
+    renderer.render_into(pose, plant.twist(), static_cast<std::uint64_t>(k), &frame);
+    Clock::time_point t1 = Clock::now();
+    StampedMeasurement stamped{estimator.estimate(frame, t), truth, static_cast<std::uint64_t>(k)};
+    Clock::time_point t2 = Clock::now();
+    result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
+    result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();
+    result.frames.push_back({stamped.frame_index, t, truth, stamped.measurement});
+
+    in_flight.push_back(stamped);
+    while (!in_flight.empty() && in_flight.front().measurement.stamp_s + s.latency_frames * ts <= t + 1e-9) {
+      queue.push(in_flight.front());
+      in_flight.pop_front();
+    }
+    const std::optional<StampedMeasurement> arrived = queue.pop_newest();
+    if (arrived) newest = arrived;
+
+    t0 = Clock::now();
+    const control::TrackerOutput output =
+        tracker.step(arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t);
+    result.total_times.control_s += seconds_since(t0);
+    result.rows.push_back(make_row(s, t, pose, truth, newest, output, previous_command));
+    previous_command = output.command;
+    plant.step(output.command, ts);
+    if (progress && (k % 10 == 0 || k + 1 == periods)) progress(static_cast<double>(k + 1) / periods);
+  }
+  result.queue = queue.stats();
+  result.wall_s = seconds_since(wall_start);
+  return result;
+}
+
+RunResult run_threaded(const Scenario& s, const Progress& progress) {
+  const Clock::time_point wall_start = Clock::now();
+  const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
+  const double ts = s.controller.ts_s;
+  const double frame_period_s = s.loop.camera_fps > 0.0 ? 1.0 / s.loop.camera_fps : ts;
+  const int periods = static_cast<int>(std::floor(s.duration_s / ts + 1e-9)) + 1;
+  auto wall_time_of = [&](double sim_s) {
+    return wall_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sim_s / s.loop.time_scale));
+  };
+
+  // State shared by the two threads: the pose at the last control tick and the twist since.
+  std::mutex state_mutex;
+  Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
+  double tick_s = 0.0;
+  BodyTwist active_command = start_twist(s);
+
+  BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, s.loop.queue_policy);
+  std::atomic<bool> stop{false};
+  RunResult result;
+  std::mutex frames_mutex;
+
+  std::thread camera_thread([&] {
+    const FrameRenderer renderer(camera, scene_of(s));
+    const perception::LineEstimator estimator(camera, perception_options(s));
+    TruthTracker truth_of(s.path, s.start_s_m);
+    std::deque<StampedMeasurement> in_flight;
+    cv::Mat frame;
+    for (std::uint64_t i = 0; !stop.load(); ++i) {
+      const double t = i * frame_period_s;
+      if (t > s.duration_s + s.latency_frames * ts) break;
+      std::this_thread::sleep_until(wall_time_of(t));
+      Pose2 pose;
+      BodyTwist twist;
+      {
+        std::lock_guard<std::mutex> lock(state_mutex);
+        pose = integrate_twist(plant.pose(), active_command, std::max(0.0, t - tick_s));
+        twist = active_command;
+      }
+      const control::TrackingError truth = truth_of(pose);
+      Clock::time_point t0 = Clock::now();
+      renderer.render_into(pose, twist, i, &frame);
+      Clock::time_point t1 = Clock::now();
+      StampedMeasurement stamped{estimator.estimate(frame, t), truth, i};
+      Clock::time_point t2 = Clock::now();
+      {
+        std::lock_guard<std::mutex> lock(frames_mutex);
+        result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
+        result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();
+        result.frames.push_back({i, t, truth, stamped.measurement});
+      }
+      // Extra transport latency, if configured, before the measurement enters the queue.
+      in_flight.push_back(stamped);
+      const double now_s = seconds_since(wall_start) * s.loop.time_scale;
+      while (!in_flight.empty() && in_flight.front().measurement.stamp_s + s.latency_frames * ts <= now_s + 1e-9) {
+        queue.push(in_flight.front(), std::chrono::milliseconds(static_cast<int>(1000 * ts / s.loop.time_scale)));
+        in_flight.pop_front();
+      }
+    }
+  });
+
+  control::LineTracker tracker = make_tracker(s);
+  result.controller_name = tracker.controller().name();
+  TruthTracker truth_of(s.path, s.start_s_m);
+  BodyTwist previous_command = start_twist(s);
+  std::optional<StampedMeasurement> newest;
+  for (int k = 0; k < periods; ++k) {
+    const double t = k * ts;
+    std::this_thread::sleep_until(wall_time_of(t));
+    result.max_tick_lateness_s = std::max(result.max_tick_lateness_s, seconds_since(wall_start) - t / s.loop.time_scale);
+    Pose2 pose;
+    {
+      std::lock_guard<std::mutex> lock(state_mutex);
+      if (k > 0) plant.step(active_command, ts);
+      tick_s = t;
+      pose = plant.pose();
+    }
+    const control::TrackingError truth = truth_of(pose);
+    const std::optional<StampedMeasurement> arrived = queue.pop_newest();
+    if (arrived) newest = arrived;
+    const Clock::time_point t0 = Clock::now();
+    const control::TrackerOutput output =
+        tracker.step(arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t);
+    result.total_times.control_s += seconds_since(t0);
+    {
+      std::lock_guard<std::mutex> lock(state_mutex);
+      active_command = output.command;
+    }
+    result.rows.push_back(make_row(s, t, pose, truth, newest, output, previous_command));
+    previous_command = output.command;
+    if (progress && (k % 10 == 0 || k + 1 == periods)) progress(static_cast<double>(k + 1) / periods);
+  }
+  stop.store(true);
+  queue.close();
+  camera_thread.join();
+  result.queue = queue.stats();
+  result.wall_s = seconds_since(wall_start);
+  return result;
+}
+
+RunResult run_scenario(const Scenario& scenario, const Progress& progress) {
+  return scenario.loop.mode == "threaded" ? run_threaded(scenario, progress) : run_lockstep(scenario, progress);
+}
+
+}  // namespace agv::pipeline

@@ -1,0 +1,80 @@
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/body_twist.h"
+#include "common/line_measurement.h"
+#include "common/pose2.h"
+#include "control/line_tracker.h"
+#include "control/mecanum_kinematics.h"
+#include "pipeline/bounded_queue.h"
+#include "pipeline/scenario.h"
+
+namespace agv::pipeline {
+
+// A measurement with the ground truth of the frame it was made from.
+struct StampedMeasurement {
+  LineMeasurement measurement;
+  control::TrackingError frame_truth;
+  std::uint64_t frame_index = 0;
+};
+
+// One control period of a run (one row of trace.csv).
+struct TraceRow {
+  double t_s = 0.0;
+  Pose2 pose;                             // true pose at t_s
+  control::TrackingError truth;           // true errors at t_s
+  bool has_measurement = false;           // the controller had a measurement to act on
+  LineMeasurement measurement;            // the newest measurement it had
+  double measurement_age_s = 0.0;
+  control::TrackerOutput output;          // command, flags, what the controller acted on
+  control::MecanumWheelSpeeds wheels_rad_s = control::MecanumWheelSpeeds::Zero();
+  std::uint32_t violations = 0;           // control::LimitViolation bits of the command
+};
+
+// Perception of one frame against its ground truth.
+struct FrameRecord {
+  std::uint64_t index = 0;
+  double stamp_s = 0.0;
+  control::TrackingError truth;
+  LineMeasurement measurement;
+};
+
+struct StageTimes {
+  double render_s = 0.0;
+  double perceive_s = 0.0;
+  double control_s = 0.0;
+};
+
+struct RunResult {
+  std::string controller_name;
+  std::vector<TraceRow> rows;
+  std::vector<FrameRecord> frames;
+  QueueStats queue;
+  StageTimes total_times;   // summed over the run, seconds (lockstep; threaded: per thread)
+  double wall_s = 0.0;
+  double max_tick_lateness_s = 0.0;  // threaded: how late the control thread ran at worst
+};
+
+// Reports progress as a fraction in [0, 1]; may be empty.
+using Progress = std::function<void(double)>;
+
+std::unique_ptr<control::PathController> make_controller(const Scenario& scenario);
+
+// Deterministic: one frame per control period; the measurement of the frame taken at period k
+// reaches the controller at period k + latency_frames, through the bounded queue.
+RunResult run_lockstep(const Scenario& scenario, const Progress& progress = {});
+
+// A camera thread renders and measures frames on its own clock and pushes them into the bounded
+// queue; a control thread runs every Ts, takes the newest measurement and logs its age.
+// Simulated time runs at loop.time_scale times wall-clock time.
+RunResult run_threaded(const Scenario& scenario, const Progress& progress = {});
+
+// run_lockstep or run_threaded, as the scenario's loop.mode says.
+RunResult run_scenario(const Scenario& scenario, const Progress& progress = {});
+
+}  // namespace agv::pipeline

@@ -1,0 +1,236 @@
+#include "pipeline/frame_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "pipeline/plant.h"
+#include "pipeline/tape_pieces.h"
+
+namespace agv::pipeline {
+namespace {
+
+constexpr int kNoiseMargin = 64;        // random offsets into the noise bank per frame
+constexpr float kNoiseScale = 25.0f;    // int8 noise bank: standard normal x 25, clipped at 5 sigma
+constexpr double kTexel_m = 0.0005;
+constexpr int kMaxBlurSamples = 12;
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene& scene)
+    : camera_(camera),
+      scene_(scene),
+      floor_map_(camera),
+      texture_(kTexel_m, scene.floor.texture_feature_m, scene.seed),
+      pieces_(tape_pieces(scene.tapes)) {
+  const int w = camera.intrinsics().width_px, h = camera.intrinsics().height_px;
+  const ImageEffects& fx = scene.effects;
+  // Pixels that see no floor get floor point (0, 0) and zero gain: black plus noise.
+  cv::patchNaNs(floor_x_m_ = floor_map_.x_m().clone(), 0.0);
+  cv::patchNaNs(floor_y_m_ = floor_map_.y_m().clone(), 0.0);
+  // The floor texture is sampled on a half-resolution grid and interpolated: its finest
+  // features span several pixels, so this loses nothing visible and saves 3/4 of the lookups.
+  const cv::Size texture_grid((w + 1) / 2, (h + 1) / 2);
+  cv::resize(floor_x_m_, texture_x_m_, texture_grid, 0, 0, cv::INTER_AREA);
+  cv::resize(floor_y_m_, texture_y_m_, texture_grid, 0, 0, cv::INTER_AREA);
+  gain_.create(h, w, CV_32F);
+  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
+  const double corner_sq = cx * cx + cy * cy;
+  const double gx = std::cos(fx.illumination_direction_rad), gy = std::sin(fx.illumination_direction_rad);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const double du = u - cx, dv = v - cy;
+      const double vignette = 1.0 - fx.vignetting * (du * du + dv * dv) / corner_sq;
+      const double gradient = 1.0 + fx.illumination_gradient * (du / w * gx + dv / h * gy);
+      const bool sees_floor = std::isfinite(floor_map_.x_m().at<float>(v, u));
+      gain_.at<float>(v, u) = sees_floor ? static_cast<float>(fx.brightness * vignette * gradient) : 0.0f;
+    }
+  }
+  // Anti-aliasing: a pixel's coverage of the tape ramps over its footprint and the tape's soft edge.
+  for (const TapeStrip& strip : scene.tapes) {
+    cv::Mat inverse_ramp(h, w, CV_32F);
+    const float softness_sq = static_cast<float>(strip.edge_softness_m * strip.edge_softness_m);
+    for (int v = 0; v < h; ++v) {
+        const float* footprint = floor_map_.footprint_m().ptr<float>(v);
+      float* out = inverse_ramp.ptr<float>(v);
+      for (int u = 0; u < w; ++u) {
+        const float f = std::isfinite(footprint[u]) ? footprint[u] : 1.0f;
+        out[u] = 1.0f / std::sqrt(f * f + softness_sq);
+      }
+    }
+    inverse_ramp_.push_back(inverse_ramp);
+  }
+  noise_bank_.create(h + kNoiseMargin, 3 * w + kNoiseMargin, CV_8S);
+  cv::RNG rng(scene.seed * 0x9E3779B97F4A7C15ull + 17);
+  for (int r = 0; r < noise_bank_.rows; ++r) {
+    auto* row = noise_bank_.ptr<signed char>(r);
+    for (int c = 0; c < noise_bank_.cols; ++c) {
+      const double z = std::clamp(rng.gaussian(1.0), -5.0, 5.0);
+      row[c] = static_cast<signed char>(std::lround(z * kNoiseScale));
+    }
+  }
+}
+
+cv::Mat FrameRenderer::render(const Pose2& pose, const BodyTwist& twist,
+                              std::uint64_t frame_index) const {
+  cv::Mat frame;
+  render_into(pose, twist, frame_index, &frame);
+  return frame;
+}
+
+void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
+                                std::uint64_t frame_index, cv::Mat* frame) const {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
+  frame->create(h, w, CV_8UC3);
+  const ImageEffects& fx = scene_.effects;
+
+  // Sub-exposure poses centred on `pose`. The tape edges (what perception measures) are
+  // integrated with poses at most 1 px of image motion apart; the floor texture, whose finest
+  // features span several pixels, with poses at most 3 px apart.
+  const double speed_m_s = std::hypot(twist.vx_m_s, twist.vy_m_s) +
+                           std::abs(twist.wz_rad_s) * (floor_map_.view_centre_m().norm() +
+                                                       floor_map_.view_radius_m());
+  const double blur_px =
+      speed_m_s * fx.exposure_s / std::max(1e-6, floor_map_.typical_footprint_m());
+  const int tape_samples = std::clamp(static_cast<int>(std::ceil(blur_px)), 1, kMaxBlurSamples);
+  const int texture_samples = std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
+  struct SubPose {
+    float c, s, tx, ty;  // vehicle -> world
+    std::vector<LocalPiece> pieces;
+  };
+  auto sub_poses = [&](int count, bool with_pieces) {
+    std::vector<SubPose> poses(count);
+    for (int k = 0; k < count; ++k) {
+      const double offset_s = count == 1 ? 0.0 : fx.exposure_s * ((k + 0.5) / count - 0.5);
+      const Pose2 p = integrate_twist(pose, twist, offset_s);
+      poses[k].c = static_cast<float>(std::cos(p.yaw_rad));
+      poses[k].s = static_cast<float>(std::sin(p.yaw_rad));
+      poses[k].tx = static_cast<float>(p.x_m);
+      poses[k].ty = static_cast<float>(p.y_m);
+      if (!with_pieces) continue;
+      const Eigen::Vector2d view_world = p.transform(floor_map_.view_centre_m());
+      const Pose2 inverse = p.inverse();
+      for (const WorldPiece& piece : pieces_) {
+        const double reach_m = floor_map_.view_radius_m() + piece.bound_radius_m +
+                               scene_.tapes[piece.strip].width_m;
+        if ((piece.bound_centre - view_world).norm() > reach_m) continue;
+        poses[k].pieces.push_back(to_local(piece, inverse));
+      }
+    }
+    return poses;
+  };
+  const std::vector<SubPose> tape_poses = sub_poses(tape_samples, true);
+  const std::vector<SubPose> texture_poses = sub_poses(texture_samples, false);
+
+  const int strips = static_cast<int>(scene_.tapes.size());
+  const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
+  const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
+  const float floor_r = static_cast<float>(scene_.floor.color_bgr[2]);
+  const float floor_contrast = static_cast<float>(scene_.floor.texture_contrast);
+
+  cv::RNG frame_rng(scene_.seed * 1000003ull + frame_index * 7919ull + 1);
+  const int noise_dx = frame_rng.uniform(0, kNoiseMargin);
+  const int noise_dy = frame_rng.uniform(0, kNoiseMargin);
+  const float noise_gain = static_cast<float>(fx.noise_sigma) / kNoiseScale;
+
+  // Floor texture over the exposure, on the half-resolution grid, then interpolated.
+  cv::Mat& texture_small = workspace_.texture_small;
+  texture_small.create(texture_x_m_.size(), CV_32F);
+  texture_small.setTo(0.0f);
+  for (const SubPose& sp : texture_poses) {
+    for (int v = 0; v < texture_small.rows; ++v) {
+      const float* xs = texture_x_m_.ptr<float>(v);
+      const float* ys = texture_y_m_.ptr<float>(v);
+      float* out = texture_small.ptr<float>(v);
+      for (int u = 0; u < texture_small.cols; ++u) {
+        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx, sp.s * xs[u] + sp.c * ys[u] + sp.ty);
+      }
+    }
+  }
+  cv::Mat& texture_image = workspace_.texture_image;
+  cv::resize(texture_small, texture_image, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
+  const float texture_scale = floor_contrast / texture_samples;
+
+  // Row buffers: every pass below is a simple loop over one image row.
+  std::vector<float> distance(w), coverage(w);
+  std::vector<float> blue(w), green(w), red(w);
+  std::vector<std::vector<float>> alpha(strips, std::vector<float>(w));
+  std::vector<bool> strip_in_row(strips);
+  cv::Mat* planes = workspace_.planes;
+  for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
+
+  for (int v = 0; v < h; ++v) {
+    const float* xs = floor_x_m_.ptr<float>(v);
+    const float* ys = floor_y_m_.ptr<float>(v);
+    const float* texture = texture_image.ptr<float>(v);
+    for (int u = 0; u < w; ++u) {
+      const float t = 1.0f + texture_scale * texture[u];
+      blue[u] = floor_b * t;
+      green[u] = floor_g * t;
+      red[u] = floor_r * t;
+    }
+
+    // Tape: coverage of each pixel by each strip, averaged over the exposure.
+    for (int i = 0; i < strips; ++i) {
+      std::fill(alpha[i].begin(), alpha[i].end(), 0.0f);
+      strip_in_row[i] = false;
+      const float* inverse_ramp = inverse_ramp_[i].ptr<float>(v);
+      const float half_width = static_cast<float>(scene_.tapes[i].width_m / 2.0);
+      for (const SubPose& sp : tape_poses) {
+        std::fill(coverage.begin(), coverage.end(), 0.0f);
+        bool any = false;
+        for (const LocalPiece& piece : sp.pieces) {
+          if (piece.strip != i) continue;
+          any = true;
+          piece_distances(piece, xs, ys, w, distance.data());
+          for (int u = 0; u < w; ++u) {
+            // min/max rather than std::clamp: the latter's branches keep this from vectorising.
+            const float a = std::min(std::max(0.5f + (half_width - distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
+            coverage[u] = std::max(coverage[u], a);
+          }
+        }
+        if (!any) continue;
+        strip_in_row[i] = true;
+        for (int u = 0; u < w; ++u) alpha[i][u] += coverage[u];
+      }
+      if (!strip_in_row[i]) continue;
+      const float tape_b = static_cast<float>(scene_.tapes[i].color_bgr[0]);
+      const float tape_g = static_cast<float>(scene_.tapes[i].color_bgr[1]);
+      const float tape_r = static_cast<float>(scene_.tapes[i].color_bgr[2]);
+      const float tape_contrast = static_cast<float>(scene_.tapes[i].texture_contrast) /
+                                  static_cast<float>(scene_.floor.texture_contrast > 0.0
+                                                         ? scene_.floor.texture_contrast
+                                                         : 1.0);
+      const float inverse_samples = 1.0f / tape_samples;
+      for (int u = 0; u < w; ++u) {
+        const float a = alpha[i][u] * inverse_samples;
+        // The tape shares the floor's texture pattern, at its own (weaker) contrast.
+        const float t = 1.0f + tape_contrast * texture_scale * texture[u];
+        blue[u] += a * (tape_b * t - blue[u]);
+        green[u] += a * (tape_g * t - green[u]);
+        red[u] += a * (tape_r * t - red[u]);
+      }
+    }
+
+    // Camera: vignetting and illumination gain, sensor noise, 8-bit output (one plane per
+    // channel, so that the loops vectorise; merged into BGR at the end).
+    const float* gain = gain_.ptr<float>(v);
+    const float* colour[3] = {blue.data(), green.data(), red.data()};
+    for (int ch = 0; ch < 3; ++ch) {
+      const signed char* noise = noise_bank_.ptr<signed char>(v + noise_dy) + noise_dx + ch * w;
+      unsigned char* out = planes[ch].ptr<unsigned char>(v);
+      const float* c = colour[ch];
+      for (int u = 0; u < w; ++u) {
+        const float value = std::min(std::max(c[u] * gain[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
+        out[u] = static_cast<unsigned char>(static_cast<int>(value));
+      }
+    }
+  }
+  cv::merge(planes, 3, *frame);
+}
+
+}  // namespace agv::pipeline

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+#include <opencv2/core.hpp>
+
+#include "common/body_twist.h"
+#include "common/pose2.h"
+#include "perception/camera_model.h"
+#include "perception/floor_map.h"
+#include "pipeline/floor_texture.h"
+#include "pipeline/scene.h"
+#include "pipeline/tape_pieces.h"
+
+namespace agv::pipeline {
+
+// Draws the colour frame (8-bit BGR, the camera's size) that the camera on a vehicle sees:
+// textured floor, tape with anti-aliased soft edges, motion blur over the exposure, lens
+// distortion (each pixel samples the floor along its own distorted ray), vignetting, an
+// illumination gradient and Gaussian sensor noise. Headless, single-threaded, deterministic
+// for the scene's seed and the frame index. One renderer per thread: rendering reuses buffers.
+class FrameRenderer {
+ public:
+  FrameRenderer(const perception::CameraModel& camera, const Scene& scene);
+
+  // The frame whose exposure is centred on the vehicle pose `pose`, moving with `twist`.
+  cv::Mat render(const Pose2& pose, const BodyTwist& twist, std::uint64_t frame_index) const;
+  void render_into(const Pose2& pose, const BodyTwist& twist, std::uint64_t frame_index,
+                   cv::Mat* frame) const;
+
+  const perception::FloorMap& floor_map() const { return floor_map_; }
+  const Scene& scene() const { return scene_; }
+
+ private:
+  perception::CameraModel camera_;
+  Scene scene_;
+  perception::FloorMap floor_map_;
+  FloorTexture texture_;
+  cv::Mat floor_x_m_, floor_y_m_;  // the floor map with 0 where no floor is seen
+  cv::Mat texture_x_m_, texture_y_m_;  // the same on the half-resolution texture grid
+  cv::Mat gain_;          // CV_32F: vignetting x illumination gradient x brightness
+  cv::Mat noise_bank_;    // CV_8S: standard normal samples x kNoiseScale
+  std::vector<WorldPiece> pieces_;
+  std::vector<cv::Mat> inverse_ramp_;
+  struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
+    cv::Mat texture_small, texture_image, planes[3];
+  };
+  mutable Workspace workspace_;  // CV_32F per strip: 1 / edge ramp width at each pixel
+};
+
+}  // namespace agv::pipeline

@@ -1,0 +1,31 @@
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace agv::pipeline {
+
+// A run's output folder, written under a temporary name beside the target and renamed into
+// place by commit(), so that an interrupted or failed run never leaves a folder that looks like
+// a result. Without commit() the temporary folder is removed.
+class OutputFolder {
+ public:
+  // `target` empty: runs/<YYYYmmdd-HHMMSS>[-N] under the working directory. An existing target
+  // is replaced only if it holds a previous run (a summary.json); otherwise InputError.
+  explicit OutputFolder(const std::string& target);
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  // Path of a file inside the (temporary) folder.
+  std::filesystem::path file(const std::string& name) const { return temporary_ / name; }
+  const std::filesystem::path& target() const { return target_; }
+  void commit();
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path temporary_;
+  bool committed_ = false;
+};
+
+}  // namespace agv::pipeline

@@ -1,0 +1,48 @@
+#include "pipeline/plant.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace agv::pipeline {
+
+Pose2 integrate_twist(const Pose2& start, const BodyTwist& twist, double dt_s) {
+  const double angle = twist.wz_rad_s * dt_s;
+  double dx, dy;
+  if (std::abs(angle) < 1e-9) {
+    // Second-order series of the expression below; exact to rounding for |angle| < 1e-9.
+    dx = (twist.vx_m_s - 0.5 * twist.vy_m_s * angle) * dt_s;
+    dy = (twist.vy_m_s + 0.5 * twist.vx_m_s * angle) * dt_s;
+  } else {
+    const double s = std::sin(angle), c = std::cos(angle);
+    dx = (twist.vx_m_s * s + twist.vy_m_s * (c - 1.0)) / twist.wz_rad_s;
+    dy = (twist.vx_m_s * (1.0 - c) + twist.vy_m_s * s) / twist.wz_rad_s;
+  }
+  return start.compose({dx, dy, angle});
+}
+
+void Plant::step(const BodyTwist& command, double dt_s) {
+  if (options_.actuator_lag_s <= 0.0) {
+    twist_ = command;
+    pose_ = integrate_twist(pose_, twist_, dt_s);
+    return;
+  }
+  // Exact first-order response per sub-step; the pose integrates the sub-step's mean twist.
+  const int substeps = std::max(1, static_cast<int>(std::ceil(dt_s / 0.002)));
+  const double h = dt_s / substeps;
+  const double decay = std::exp(-h / options_.actuator_lag_s);
+  const double mean_gain = 1.0 - options_.actuator_lag_s / h * (1.0 - decay);
+  for (int i = 0; i < substeps; ++i) {
+    auto advance = [&](double& state, double target) {
+      const double mean = target + (state - target) * (1.0 - mean_gain);
+      state = target + (state - target) * decay;
+      return mean;
+    };
+    BodyTwist mean;
+    mean.vx_m_s = advance(twist_.vx_m_s, command.vx_m_s);
+    mean.vy_m_s = advance(twist_.vy_m_s, command.vy_m_s);
+    mean.wz_rad_s = advance(twist_.wz_rad_s, command.wz_rad_s);
+    pose_ = integrate_twist(pose_, mean, h);
+  }
+}
+
+}  // namespace agv::pipeline

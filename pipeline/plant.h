@@ -1,0 +1,35 @@
+#pragma once
+
+#include "common/body_twist.h"
+#include "common/pose2.h"
+
+namespace agv::pipeline {
+
+// Pose after moving with a constant body twist for dt_s: the exact SE(2) exponential, not the
+// small-angle model of seed 000 eq. 12 (DIGEST erratum 4).
+Pose2 integrate_twist(const Pose2& start, const BodyTwist& twist, double dt_s);
+
+// Kinematic vehicle: integrates the twist it is commanded, optionally through a first-order
+// actuator lag (the real twist approaches the command with time constant lag_s).
+class Plant {
+ public:
+  struct Options {
+    double actuator_lag_s = 0.0;  // 0: the twist follows the command at once
+  };
+
+  Plant(const Pose2& start, const BodyTwist& start_twist, const Options& options)
+      : pose_(start), twist_(start_twist), options_(options) {}
+
+  // Advances by dt_s under a command held constant over that time.
+  void step(const BodyTwist& command, double dt_s);
+
+  const Pose2& pose() const { return pose_; }
+  const BodyTwist& twist() const { return twist_; }  // the twist the vehicle really has
+
+ private:
+  Pose2 pose_;
+  BodyTwist twist_;
+  Options options_;
+};
+
+}  // namespace agv::pipeline

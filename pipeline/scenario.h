@@ -1,0 +1,71 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "control/finite_step_controller.h"
+#include "control/mecanum_kinematics.h"
+#include "control/path.h"
+#include "control/pid_controller.h"
+#include "control/vehicle_limits.h"
+#include "perception/camera_file.h"
+#include "perception/line_estimator.h"
+#include "pipeline/bounded_queue.h"
+#include "pipeline/scene.h"
+
+namespace agv::pipeline {
+
+struct VehicleConfig {
+  std::string kind = "mecanum";
+  control::MecanumGeometry mecanum;
+  control::VehicleLimits limits;
+  double actuator_lag_s = 0.0;
+};
+
+struct ControllerConfig {
+  std::string kind = "finite_step";  // finite_step | pid
+  double ts_s = 0.1;
+  control::FiniteStepController::Options finite_step;
+  control::PidController::Options pid;
+  double line_lost_hold_s = 0.3;
+  bool latency_compensation = true;
+};
+
+struct MetricsConfig {
+  double settle_band_e_d_m = 0.002;        // the paper's 2 mm
+  double settle_band_e_theta_rad = 0.0349065850398866;  // the paper's 2 deg
+};
+
+struct LoopConfig {
+  std::string mode = "lockstep";  // lockstep | threaded
+  std::size_t queue_capacity = 4;
+  QueuePolicy queue_policy = QueuePolicy::kDropOldest;
+  double time_scale = 1.0;         // threaded: simulated seconds per wall-clock second
+  double camera_fps = 0.0;         // threaded: frames per second (0: one frame per period)
+};
+
+// Everything one simulated run needs, read from a scenario file (see the default scenario,
+// tools/config/default_scenario.yaml, for every key with its meaning).
+struct Scenario {
+  std::string source_name;         // the file, or "built-in default scenario"
+  double duration_s = 5.0;
+  std::uint64_t seed = 1;
+  double path_speed_m_s = 0.3;
+  int latency_frames = 1;
+  double start_s_m = 0.5;          // where along the path the vehicle starts
+  double initial_e_theta_rad = 0.0872664625997165;  // 5 deg
+  double initial_e_d_m = 0.010;
+  control::Path path;
+  TapeStrip tape;                  // its path is `path`
+  FloorStyle floor;
+  ImageEffects effects;
+  bool tape_color_hint = true;     // perception is told the tape colour
+  std::string camera_name;         // where the camera came from
+  perception::CameraFile camera;
+  VehicleConfig vehicle;
+  ControllerConfig controller;
+  MetricsConfig metrics;
+  LoopConfig loop;
+};
+
+}  // namespace agv::pipeline

@@ -1,0 +1,122 @@
+#include "pipeline/tape_pieces.h"
+
+#include <algorithm>
+#include <numbers>
+
+namespace agv::pipeline {
+namespace {
+
+constexpr double kArcPieceMax_rad = std::numbers::pi / 2.0;
+
+}  // namespace
+
+std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes) {
+  std::vector<WorldPiece> pieces;
+  for (int strip = 0; strip < static_cast<int>(tapes.size()); ++strip) {
+    const auto& segments = tapes[strip].path.segments();
+    const size_t first_piece = pieces.size();
+    for (const control::PathSegment& segment : segments) {
+      const bool is_arc = std::abs(segment.curvature_1_m) > 1e-12;
+      const double sweep_rad = std::abs(segment.curvature_1_m) * segment.length_m;
+      const int parts = is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
+      for (int p = 0; p < parts; ++p) {
+        const double s0 = segment.length_m * p / parts, s1 = segment.length_m * (p + 1) / parts;
+        WorldPiece piece;
+        piece.strip = strip;
+        piece.is_arc = is_arc;
+        piece.start = segment.point_at(s0);
+        piece.end = segment.point_at(s1);
+        piece.heading_rad = segment.heading_at(s0);
+        piece.length_m = s1 - s0;
+        if (is_arc) {
+          piece.radius_m = 1.0 / std::abs(segment.curvature_1_m);
+          piece.turn_sign = segment.curvature_1_m > 0.0 ? 1.0 : -1.0;
+          const double h = piece.heading_rad;
+          piece.centre = piece.start + piece.turn_sign * piece.radius_m *
+                                           Eigen::Vector2d(-std::sin(h), std::cos(h));
+        }
+        // A circle around the piece: chord midpoint, half chord plus the arc's sagitta bound.
+        piece.bound_centre = 0.5 * (piece.start + piece.end);
+        piece.bound_radius_m = 0.5 * piece.length_m + 1e-6;
+        pieces.push_back(piece);
+      }
+    }
+    if (pieces.size() > first_piece) {
+      pieces[first_piece].flat_start = true;
+      pieces.back().flat_end = true;
+    }
+  }
+  return pieces;
+}
+
+LocalPiece to_local(const WorldPiece& w, const Pose2& vehicle_inverse) {
+  LocalPiece l{};
+  l.strip = w.strip;
+  l.is_arc = w.is_arc;
+  const Eigen::Vector2d a = vehicle_inverse.transform(w.start);
+  const Eigen::Vector2d b = vehicle_inverse.transform(w.end);
+  l.ax = static_cast<float>(a.x());
+  l.ay = static_cast<float>(a.y());
+  l.bx = static_cast<float>(b.x());
+  l.by = static_cast<float>(b.y());
+  l.flat_start = w.flat_start;
+  l.flat_end = w.flat_end;
+  if (!w.is_arc) {
+    const Eigen::Vector2d t = vehicle_inverse.rotate({std::cos(w.heading_rad), std::sin(w.heading_rad)});
+    l.tx = static_cast<float>(t.x());
+    l.ty = static_cast<float>(t.y());
+    l.length = static_cast<float>(w.length_m);
+  } else {
+    const Eigen::Vector2d c = vehicle_inverse.transform(w.centre);
+    l.cx = static_cast<float>(c.x());
+    l.cy = static_cast<float>(c.y());
+    l.radius = static_cast<float>(w.radius_m);
+    const Eigen::Vector2d r0 = (a - c) / w.radius_m, r1 = (b - c) / w.radius_m;
+    l.r0x = static_cast<float>(r0.x());
+    l.r0y = static_cast<float>(r0.y());
+    l.r1x = static_cast<float>(r1.x());
+    l.r1y = static_cast<float>(r1.y());
+    l.turn_sign = static_cast<float>(w.turn_sign);
+  }
+  return l;
+}
+
+void piece_distances(const LocalPiece& piece, const float* xs, const float* ys, int count,
+                     float* distance) {
+  constexpr float kFar = 1e30f;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  // Past a flat end the tape is cut: positions along the piece outside [cut_before, cut_after].
+  const float cut_before = piece.flat_start ? 0.0f : -kInf;
+  if (!piece.is_arc) {
+    const float cut_after = piece.flat_end ? piece.length : kInf;
+    // Locals, so that the compiler knows that writing `distance` cannot change them.
+    const float ax = piece.ax, ay = piece.ay, tx = piece.tx, ty = piece.ty, length = piece.length;
+    for (int u = 0; u < count; ++u) {
+      const float dx = xs[u] - ax, dy = ys[u] - ay;
+      const float along = dx * tx + dy * ty;
+      const float clamped = std::min(std::max(along, 0.0f), length);
+      const float ex = dx - clamped * tx, ey = dy - clamped * ty;
+      const float d = std::sqrt(ex * ex + ey * ey);
+      distance[u] = ((along < cut_before) | (along > cut_after)) ? kFar : d;
+    }
+    return;
+  }
+  const float start_weight = piece.flat_start ? kFar : 0.0f;
+  const float end_weight = piece.flat_end ? kFar : 0.0f;
+  const float cx = piece.cx, cy = piece.cy, radius = piece.radius, sign = piece.turn_sign;
+  const float r0x = piece.r0x, r0y = piece.r0y, r1x = piece.r1x, r1y = piece.r1y;
+  const float ax = piece.ax, ay = piece.ay, bx = piece.bx, by = piece.by;
+  for (int u = 0; u < count; ++u) {
+    const float qx = xs[u] - cx, qy = ys[u] - cy;
+    const float after_start = sign * (r0x * qy - r0y * qx);
+    const float before_end = sign * (qx * r1y - qy * r1x);
+    const float on_arc = std::abs(std::sqrt(qx * qx + qy * qy) - radius);
+    const float sx = xs[u] - ax, sy = ys[u] - ay;
+    const float ex = xs[u] - bx, ey = ys[u] - by;
+    const float to_start = std::sqrt(sx * sx + sy * sy) + start_weight;
+    const float to_end = std::sqrt(ex * ex + ey * ey) + end_weight;
+    distance[u] = ((after_start >= 0.0f) & (before_end >= 0.0f)) ? on_arc : std::min(to_start, to_end);
+  }
+}
+
+}  // namespace agv::pipeline

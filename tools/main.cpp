@@ -1,0 +1,37 @@
+// agv: command-line program of the AGV vision-in-the-loop path tracker.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+#include <opencv2/core.hpp>
+
+#include "common/input_error.h"
+#include "tools/bench_command.h"
+#include "tools/simulate_command.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"agv: vision-in-the-loop AGV path tracker (perception, finite-step control, closed-loop simulation)"};
+  app.set_version_flag("--version", "agv 0.1.0");
+  app.require_subcommand(1);
+  agv::tools::SimulateArgs simulate;
+  agv::tools::BenchArgs bench;
+  agv::tools::add_simulate_command(app, simulate);
+  agv::tools::add_bench_command(app, bench);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;  // usage errors are bad input
+  }
+  const std::string command = app.get_subcommands().front()->get_name();
+  try {
+    if (command == "simulate") return agv::tools::run_simulate(simulate);
+    if (command == "bench") return agv::tools::run_bench(bench);
+  } catch (const agv::InputError& e) {
+    std::cerr << "agv " << command << ": error: " << e.what() << '\n';
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "agv " << command << ": internal error: " << e.what() << '\n';
+    return 1;
+  }
+  return 1;
+}
