@@ -30,8 +30,10 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
   TrackerOutput out;
   if (line_lost_) out.flags |= kLineLost;
   BodyTwist desired;
+  // Times are sums of periods: a nanosecond of slack keeps rounding from ending the hold early.
+  constexpr double kTimeSlack_s = 1e-9;
   const bool recent_good =
-      last_good_ && (!line_lost_ || now_s - last_good_->stamp_s <= options_.line_lost_hold_s);
+      last_good_ && (!line_lost_ || now_s - last_good_->stamp_s <= options_.line_lost_hold_s + kTimeSlack_s);
   if (recent_good) {
     if (stopped_tracking_) controller_->reset();
     stopped_tracking_ = false;
@@ -53,7 +55,7 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
     if (controlled.no_feasible_horizon) out.flags |= kNoFeasibleHorizon;
     out.has_estimate = true;
     out.estimate = estimate;
-  } else if (!last_good_ && now_s - *first_step_s_ <= options_.line_lost_hold_s) {
+  } else if (!last_good_ && now_s - *first_step_s_ <= options_.line_lost_hold_s + kTimeSlack_s) {
     out.flags |= kNoMeasurementYet;
     desired = previous_command_;
   } else {

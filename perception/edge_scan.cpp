@@ -51,8 +51,9 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       hi_small = i;
     }
     if (lo_small < 0) continue;
-    const int lo = lo_small * ds - options.margin_px;
-    const int hi = hi_small * ds + ds - 1 + options.margin_px;
+    const int reach = std::max(options.margin_px, options.flank_px);
+    const int lo = lo_small * ds - reach;
+    const int hi = hi_small * ds + ds - 1 + reach;
     if (lo < 0 || hi >= line_length) continue;  // no floor on one side: the edge is unknowable
     const int count = hi - lo + 1;
     const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes

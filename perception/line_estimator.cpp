@@ -27,7 +27,14 @@ LineMeasurement not_found(double stamp_s, const std::string& reason, LineDetecti
 }  // namespace
 
 LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
-    : camera_(camera), options_(options), floor_map_(camera) {}
+    : camera_(camera), options_(options), floor_map_(camera) {
+  // Tape width in downsampled pixels at the middle of the view; without a configured width,
+  // the common widths from 12 to 50 mm.
+  const double footprint_m = std::max(1e-6, floor_map_.typical_footprint_m());
+  const std::vector<double> widths_m = options_.tape.width_m > 0.0 ? std::vector<double>{options_.tape.width_m}
+                                                                   : std::vector<double>{0.012, 0.025, 0.05};
+  for (double width_m : widths_m) bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
+}
 
 LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
                                         LineDetection* details) const {
@@ -46,12 +53,15 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   cv::resize(frame, small, cv::Size(frame.cols / ds, frame.rows / ds), 0, 0, cv::INTER_AREA);
   const std::optional<ContrastAxis> axis = estimate_contrast_axis(small, options_.tape.color_bgr);
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", details);
-  const TapeRegions coarse = find_tape_regions(small, *axis, ds, options_.min_region_area_small_px);
+  const TapeRegions coarse = find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
   if (coarse.regions.empty()) return not_found(stamp_s, "no tape-like region", details);
 
   // The largest region is the line (junctions and branches come with multi-line support).
   const TapeRegion& region = coarse.regions.front();
-  const std::vector<EdgePair> edges = scan_tape_edges(frame, *axis, coarse, region, options_.scan);
+  EdgeScanOptions scan = options_.scan;
+  scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(*std::max_element(
+                                              bar_widths_small_px_.begin(), bar_widths_small_px_.end()) * ds)));
+  const std::vector<EdgePair> edges = scan_tape_edges(frame, *axis, coarse, region, scan);
 
   std::vector<Eigen::Vector2d> centres, firsts, seconds;
   std::vector<EdgePair> kept_edges;

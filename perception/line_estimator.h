@@ -36,7 +36,8 @@ struct LineDetection {
 // Finds the guide line in a frame and reports it as (e_theta, e_d) of the vehicle reference
 // point (shared/DESIGN.md), through the camera's floor mapping:
 //  1. a linear colour axis (tape colour hint or automatic) turns the frame into contrast;
-//  2. on a 1/4-size copy, threshold + connected regions say where the tape may be;
+//  2. on a 1/4-size copy, a bar detector tuned to the tape width, a threshold and connected
+//     regions say where the tape may be;
 //  3. along each full-resolution row (or column) across the tape, the two edges are found to
 //     sub-pixel precision at the half-way crossings of the local contrast;
 //  4. both edges are mapped to the floor; their midpoint lies on the tape's centre line
@@ -73,6 +74,7 @@ class LineEstimator {
   CameraModel camera_;
   Options options_;
   FloorMap floor_map_;
+  std::vector<double> bar_widths_small_px_;  // bar detector widths (see find_tape_regions)
 };
 
 }  // namespace agv::perception

@@ -45,22 +45,61 @@ cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
   return contrast;
 }
 
+// Bar response along rows (horizontal = true) or columns for a bar `width` samples wide:
+// mean over the bar minus the mean of two flanks of width/2 on each side.
+cv::Mat bar_response(const cv::Mat& s, double width, bool horizontal) {
+  const int bar = std::max(1, static_cast<int>(std::lround(width)));
+  const int flank = std::max(1, static_cast<int>(std::lround(width / 2.0)));
+  const int offset = (bar + flank + 1) / 2;  // centre of a flank from the centre of the bar
+  cv::Mat centre, flanks;
+  const cv::Size bar_kernel = horizontal ? cv::Size(bar, 1) : cv::Size(1, bar);
+  const cv::Size flank_kernel = horizontal ? cv::Size(flank, 1) : cv::Size(1, flank);
+  cv::blur(s, centre, bar_kernel, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  cv::blur(s, flanks, flank_kernel, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  cv::Mat response(s.size(), CV_32F);
+  for (int y = 0; y < s.rows; ++y) {
+    float* out = response.ptr<float>(y);
+    const float* c = centre.ptr<float>(y);
+    for (int x = 0; x < s.cols; ++x) {
+      float before, after;
+      if (horizontal) {
+        before = flanks.at<float>(y, std::max(0, x - offset));
+        after = flanks.at<float>(y, std::min(s.cols - 1, x + offset));
+      } else {
+        before = flanks.at<float>(std::max(0, y - offset), x);
+        after = flanks.at<float>(std::min(s.rows - 1, y + offset), x);
+      }
+      // A bar stands out on both sides: the weaker side bounds the response, so that a single
+      // edge (a shadow boundary, the edge of a wide stain) does not look like a bar.
+      out[x] = c[x] - std::max(before, after);
+    }
+  }
+  return response;
+}
+
 }  // namespace
 
 TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
-                              int min_area_small_px) {
+                              const std::vector<double>& bar_widths_small_px, int min_area_small_px) {
   TapeRegions result;
   result.downsample = downsample;
   result.contrast_small = contrast_of(small_frame, axis);
-  const cv::Mat& s = result.contrast_small;
+  cv::Mat& bar = result.bar_small;
+  bar = cv::Mat(result.contrast_small.size(), CV_32F, cv::Scalar(-1e9f));
+  for (double width : bar_widths_small_px) {
+    bar = cv::max(bar, bar_response(result.contrast_small, width, true));
+    bar = cv::max(bar, bar_response(result.contrast_small, width, false));
+  }
+  const cv::Mat& s = result.bar_small;
 
   std::vector<int> histogram(kBins, 0);
   for (int y = 0; y < s.rows; ++y) {
     const float* row = s.ptr<float>(y);
     for (int x = 0; x < s.cols; ++x) ++histogram[bin_of(row[x])];
   }
-  // ISODATA: the threshold settles half-way between the medians of the two classes. It never
-  // drops below 0.25, so that floor texture alone is not called tape on a tape-free frame.
+  // ISODATA on the bar response: the threshold settles half-way between the medians of the two
+  // classes. It never drops below 0.25 (a quarter of the nominal tape contrast), so that floor
+  // texture alone is not called tape on a tape-free frame.
   float threshold = 0.5f;
   for (int iteration = 0; iteration < 8; ++iteration) {
     const int split = bin_of(threshold) + 1;

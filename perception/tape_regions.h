@@ -22,6 +22,7 @@ struct TapeRegion {
 struct TapeRegions {
   int downsample = 4;
   cv::Mat contrast_small;        // CV_32F contrast on the downsampled frame
+  cv::Mat bar_small;             // CV_32F bar-detector response (see find_tape_regions)
   cv::Mat labels_small;          // CV_32S, 0 = background
   float threshold = 0.5f;        // contrast level separating tape from floor
   float floor_level = 0.0f;      // median contrast of the floor
@@ -30,9 +31,14 @@ struct TapeRegions {
   std::vector<TapeRegion> regions;  // largest first
 };
 
-// Thresholds the contrast of a downsampled frame half-way between the floor and tape levels
-// (iterated, ISODATA) and returns its connected regions of at least min_area_small_px pixels.
+// Finds where tape may be on a downsampled frame. A bar detector tuned to the tape's width in
+// the image (bar_widths_small_px, one or more candidate widths) responds to a band of that width
+// brighter (in contrast) than the floor on both sides: the mean over the band minus the mean
+// over the two flanks, along rows and along columns, the larger kept. Floor texture, shading
+// and illumination gradients, which vary slowly across a tape width, cancel out. The response
+// is thresholded half-way between floor and tape (ISODATA) and its connected regions of at
+// least min_area_small_px pixels are returned.
 TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
-                              int min_area_small_px);
+                              const std::vector<double>& bar_widths_small_px, int min_area_small_px);
 
 }  // namespace agv::perception

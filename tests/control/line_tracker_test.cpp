@@ -1,0 +1,101 @@
+#include "control/line_tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/angles.h"
+#include "control/finite_step_controller.h"
+
+namespace agv::control {
+namespace {
+
+constexpr double kTs = 0.1;
+const VehicleLimits kLimits{1.0, 0.5, 0.5, 1.0, 4.0};
+
+LineTracker make_tracker(double hold_s) {
+  LineTracker::Options options;
+  options.ts_s = kTs;
+  options.path_speed_m_s = 0.3;
+  options.line_lost_hold_s = hold_s;
+  return LineTracker(std::make_unique<FiniteStepController>(FiniteStepController::Options{}), kLimits, options,
+                     {0.3, 0.0, 0.0});
+}
+
+LineMeasurement seen(double stamp_s, double e_theta_rad = 0.0, double e_d_m = 0.0) {
+  LineMeasurement m;
+  m.stamp_s = stamp_s;
+  m.line_found = true;
+  m.e_theta_rad = e_theta_rad;
+  m.e_d_m = e_d_m;
+  m.confidence = 1.0;
+  return m;
+}
+
+LineMeasurement lost(double stamp_s) {
+  LineMeasurement m;
+  m.stamp_s = stamp_s;
+  return m;
+}
+
+// The line is lost at t = 0.5 s: the tracker holds the last good estimate for 0.3 s, then
+// brakes at no more than a_max to a stop, and resumes when the line is seen again.
+TEST(LineTracker, HoldsThenStopsWithinTheAccelerationLimitThenResumes) {
+  LineTracker tracker = make_tracker(0.3);
+  BodyTwist previous{0.3, 0.0, 0.0};
+  int k = 0;
+  for (; k < 5; ++k) previous = tracker.step(seen(k * kTs, deg_to_rad(1), 0.002), k * kTs).command;
+  double stopped_at_s = -1.0;
+  double distance_m = 0.0;
+  for (; k < 40; ++k) {
+    const double t = k * kTs;
+    const TrackerOutput out = tracker.step(lost(t), t);
+    EXPECT_EQ(check_limits(out.command, previous, kLimits, kTs), 0u) << "t=" << t;
+    EXPECT_TRUE(out.flags & kLineLost);
+    if (t - 0.4 <= 0.3 + 1e-9) {
+      EXPECT_TRUE(out.flags & kHolding) << "t=" << t;
+    } else {
+      EXPECT_TRUE(out.flags & kStopping) << "t=" << t;
+      distance_m += out.command.vx_m_s * kTs;
+    }
+    if (stopped_at_s < 0 && std::abs(out.command.vx_m_s) + std::abs(out.command.vy_m_s) < 1e-12) stopped_at_s = t;
+    previous = out.command;
+  }
+  // Braking starts at 0.8 s; from 0.3 m/s in steps of a_max * Ts = 0.05 m/s the commands are
+  // 0.25, 0.20, ..., 0 m/s: zero at 1.3 s after (0.25 + 0.20 + ... + 0.05) * 0.1 = 0.075 m.
+  EXPECT_NEAR(stopped_at_s, 1.3, 1e-9);
+  EXPECT_NEAR(distance_m, 0.075, 1e-9);
+  // Seen again: speed builds up again within the limits.
+  for (int i = 0; i < 10; ++i, ++k) {
+    const TrackerOutput out = tracker.step(seen(k * kTs), k * kTs);
+    EXPECT_EQ(check_limits(out.command, previous, kLimits, kTs), 0u);
+    EXPECT_FALSE(out.flags & kStopping);
+    previous = out.command;
+  }
+  EXPECT_NEAR(previous.vx_m_s, 0.3, 1e-9);
+}
+
+// Without any measurement at all the tracker keeps the last command for the hold time, then stops.
+TEST(LineTracker, NoMeasurementEverMeansStop) {
+  LineTracker tracker = make_tracker(0.2);
+  BodyTwist command;
+  for (int k = 0; k < 20; ++k) command = tracker.step(std::nullopt, k * kTs).command;
+  EXPECT_NEAR(command.vx_m_s, 0.0, 1e-12);
+}
+
+// Whatever the measurements say, the command never breaks a limit.
+TEST(LineTracker, NeverCommandsBeyondTheLimits) {
+  LineTracker tracker = make_tracker(0.3);
+  BodyTwist previous{0.3, 0.0, 0.0};
+  for (int k = 0; k < 100; ++k) {
+    const double t = k * kTs;
+    const double e_d = (k % 7 < 3 ? 0.05 : -0.08);
+    const double e_theta = deg_to_rad(k % 5 < 2 ? 20.0 : -15.0);
+    const TrackerOutput out = tracker.step(k % 11 == 0 ? lost(t) : seen(t, e_theta, e_d), t);
+    EXPECT_EQ(check_limits(out.command, previous, kLimits, kTs), 0u) << "k=" << k;
+    previous = out.command;
+  }
+}
+
+}  // namespace
+}  // namespace agv::control

@@ -1,0 +1,106 @@
+#include "perception/camera_model.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+
+#include "support/test_scenes.h"
+
+namespace agv::perception {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// DESIGN.md's worked example: straight down, image top to the front.
+TEST(MountPose, DesignWorkedExample) {
+  const Eigen::Matrix3d r = testing::straight_down_mount().rotation();
+  Eigen::Matrix3d expected;
+  expected << 0, -1, 0, -1, 0, 0, 0, 0, -1;
+  EXPECT_TRUE(r.isApprox(expected, 1e-12)) << r;
+  EXPECT_NEAR(testing::straight_down_mount().tilt_rad(), 0.0, 1e-12);
+}
+
+TEST(MountPose, RollPitchYawRoundTrip) {
+  for (const Eigen::Vector3d& rpy : {Eigen::Vector3d(3.0, 0.1, -1.5), Eigen::Vector3d(-2.9, -0.3, 0.4),
+                                    Eigen::Vector3d(kPi, 0.05, -kPi / 2 + 0.05)}) {
+    MountPose mount;
+    mount.rpy_rad = rpy;
+    const MountPose back = MountPose::from_rotation(mount.xyz_m, mount.rotation());
+    EXPECT_TRUE(back.rotation().isApprox(mount.rotation(), 1e-12));
+  }
+}
+
+TEST(MountPose, DescribesItselfInWords) {
+  const std::string words = testing::straight_down_mount().describe();
+  EXPECT_NE(words.find("0.300 m ahead"), std::string::npos) << words;
+  EXPECT_NE(words.find("0.150 m up"), std::string::npos) << words;
+  EXPECT_NE(words.find("straight down"), std::string::npos) << words;
+}
+
+// 640 x 480 px with f = 384 px at 0.15 m: 0.25 m x 0.1875 m at the principal lines; the image
+// top is the front, the image left is the vehicle's left.
+TEST(CameraModel, DefaultCameraSeesTheFloorAheadOfTheVehicle) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  const Eigen::Vector2d centre = *camera.pixel_to_floor({319.5, 239.5});
+  EXPECT_NEAR(centre.x(), 0.30, 1e-9);
+  EXPECT_NEAR(centre.y(), 0.0, 1e-9);
+  // Along the principal row and column distortion only stretches: still symmetric.
+  const Eigen::Vector2d top = *camera.pixel_to_floor({319.5, 0.0});
+  const Eigen::Vector2d left = *camera.pixel_to_floor({0.0, 239.5});
+  EXPECT_GT(top.x(), 0.30 + 0.09);
+  EXPECT_NEAR(top.y(), 0.0, 1e-9);
+  EXPECT_GT(left.y(), 0.12);
+  EXPECT_NEAR(left.x(), 0.30, 1e-9);
+  // Barrel distortion (k1 < 0): the edge pixel sees farther out than the pinhole would (0.125 m).
+  EXPECT_LT(left.y(), 0.14);
+}
+
+TEST(CameraModel, PixelToFloorToPixelRoundTrip) {
+  for (const MountPose& mount : {testing::straight_down_mount(), testing::tilted_offset_mount()}) {
+    const CameraModel camera(testing::default_intrinsics(), mount);
+    for (const cv::Point2d pixel : {cv::Point2d(0, 0), cv::Point2d(639, 0), cv::Point2d(320.25, 100.75),
+                                    cv::Point2d(17, 470), cv::Point2d(639, 479)}) {
+      const auto floor = camera.pixel_to_floor(pixel);
+      ASSERT_TRUE(floor);
+      const auto back = camera.floor_to_pixel(*floor);
+      ASSERT_TRUE(back);
+      EXPECT_NEAR(back->x, pixel.x, 1e-6);
+      EXPECT_NEAR(back->y, pixel.y, 1e-6);
+    }
+  }
+}
+
+// A camera 0.15 m up, its optical axis tilted 30 deg forward from vertical: the principal
+// point sees the floor 0.15 tan(30 deg) = 0.0866 m ahead of the point below the camera.
+TEST(CameraModel, TiltedCameraHandCase) {
+  const double tilt = deg_to_rad(30.0);
+  Eigen::Matrix3d r;
+  r.col(2) = Eigen::Vector3d(std::sin(tilt), 0.0, -std::cos(tilt));   // optical axis
+  r.col(1) = Eigen::Vector3d(-std::cos(tilt), 0.0, -std::sin(tilt));  // image down: backwards
+  r.col(0) = r.col(1).cross(r.col(2));                                // image right: vehicle right
+  const MountPose mount = MountPose::from_rotation({0.3, 0.0, 0.15}, r);
+  EXPECT_NEAR(mount.tilt_rad(), tilt, 1e-12);
+  CameraIntrinsics pinhole = testing::default_intrinsics();
+  pinhole.distortion.clear();
+  const CameraModel camera(pinhole, mount);
+  const Eigen::Vector2d p = *camera.pixel_to_floor({319.5, 239.5});
+  EXPECT_NEAR(p.x(), 0.3 + 0.15 * std::tan(tilt), 1e-9);
+  EXPECT_NEAR(p.y(), 0.0, 1e-9);
+  EXPECT_FALSE(camera.floor_to_pixel({0.3, 0.0}) == std::nullopt);  // below the camera: in view
+}
+
+TEST(CameraModel, RaysAboveTheHorizonMissTheFloor) {
+  const double tilt = deg_to_rad(80.0);
+  Eigen::Matrix3d r;
+  r.col(2) = Eigen::Vector3d(std::sin(tilt), 0.0, -std::cos(tilt));
+  r.col(1) = Eigen::Vector3d(-std::cos(tilt), 0.0, -std::sin(tilt));
+  r.col(0) = r.col(1).cross(r.col(2));
+  const CameraModel camera(testing::default_intrinsics(), MountPose::from_rotation({0.3, 0.0, 0.15}, r));
+  EXPECT_FALSE(camera.pixel_to_floor({319.5, 0.0}).has_value());  // image top looks above the horizon
+  EXPECT_TRUE(camera.pixel_to_floor({319.5, 479.0}).has_value());
+}
+
+}  // namespace
+}  // namespace agv::perception
