@@ -150,8 +150,11 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress) {
 }
 
 RunResult run_threaded(const Scenario& s, const Progress& progress) {
-  const Clock::time_point wall_start = Clock::now();
+  // Built before the clock starts: their set-up (floor map, texture) is not part of the run.
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
+  const FrameRenderer renderer(camera, scene_of(s));
+  const perception::LineEstimator estimator(camera, perception_options(s));
+  const Clock::time_point wall_start = Clock::now();
   const double ts = s.controller.ts_s;
   const double frame_period_s = s.loop.camera_fps > 0.0 ? 1.0 / s.loop.camera_fps : ts;
   const int periods = static_cast<int>(std::floor(s.duration_s / ts + 1e-9)) + 1;
@@ -171,8 +174,6 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   std::mutex frames_mutex;
 
   std::thread camera_thread([&] {
-    const FrameRenderer renderer(camera, scene_of(s));
-    const perception::LineEstimator estimator(camera, perception_options(s));
     TruthTracker truth_of(s.path, s.start_s_m);
     std::deque<StampedMeasurement> in_flight;
     cv::Mat frame;

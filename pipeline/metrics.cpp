@@ -6,10 +6,12 @@
 namespace agv::pipeline {
 namespace {
 
-// Time at which |e| falls back to `band` between samples i and i + 1 (e(i) outside, e(i+1) in).
+// Time at which |e| falls back to `band` between samples i and i + 1 (e(i+1) is inside); t(i)
+// when e(i) is inside already.
 double reentry_time(const std::vector<double>& t, const std::vector<double>& e, size_t i, double band) {
   const double a = std::abs(e[i]), b = std::abs(e[i + 1]);
-  if (a <= band || a == b) return t[i + 1];
+  if (a <= band) return t[i];
+  if (a == b) return t[i + 1];
   const double fraction = std::clamp((a - band) / (a - b), 0.0, 1.0);
   return t[i] + fraction * (t[i + 1] - t[i]);
 }

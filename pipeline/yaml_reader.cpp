@@ -56,7 +56,11 @@ YamlReader::YamlReader(YAML::Node root, std::string source_name)
 
 std::string YamlReader::origin(const std::string& key) const {
   const auto it = overrides_.find(key);
-  return it != overrides_.end() ? it->second : source_;
+  if (it != overrides_.end()) return it->second;
+  // A group that only exists because an override created it ("controler" from
+  // --set controler.ts_s=0.1) comes from that override.
+  const auto created = created_groups_.find(key);
+  return created != created_groups_.end() ? created->second : source_;
 }
 
 void YamlReader::fail(const std::string& key, const std::string& what) const {
@@ -90,6 +94,9 @@ void YamlReader::set_override(const std::string& dotted_key, const std::string& 
       if (!child.IsDefined() || child.IsNull()) {
         parent[parts[i]] = YAML::Node(YAML::NodeType::Map);
         child = parent[parts[i]];
+        std::string group;
+        for (size_t j = 0; j <= i; ++j) group += (j ? "." : "") + parts[j];
+        created_groups_.emplace(group, option);
       }
     }
     chain.push_back(child);
@@ -263,9 +270,19 @@ void YamlReader::check_unused(const YAML::Node& node, const std::string& path) c
         continue;
       }
     }
+    // Closest known key, or known group of keys, at the same depth.
+    std::set<std::string> candidates;
+    const size_t depth = split_key(key).size();
+    for (const std::string& k : known_) {
+      const std::vector<std::string> parts = split_key(k);
+      if (parts.size() < depth) continue;
+      std::string prefix;
+      for (size_t i = 0; i < depth; ++i) prefix += (i ? "." : "") + parts[i];
+      candidates.insert(prefix);
+    }
     std::string best;
     size_t best_distance = 1000;
-    for (const std::string& k : known_) {
+    for (const std::string& k : candidates) {
       const size_t d = edit_distance(generic(key), generic(k));
       if (d < best_distance) {
         best_distance = d;

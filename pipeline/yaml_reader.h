@@ -53,6 +53,7 @@ class YamlReader {
   std::string source_;
   std::set<std::string> known_;                     // every key asked for
   std::map<std::string, std::string> overrides_;    // key -> "--set key=value"
+  std::map<std::string, std::string> created_groups_;  // group made by an override -> its option
 };
 
 }  // namespace agv::pipeline

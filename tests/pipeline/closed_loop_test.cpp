@@ -1,0 +1,115 @@
+#include "pipeline/closed_loop.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/angles.h"
+#include "pipeline/metrics.h"
+#include "pipeline/scenario_loader.h"
+#include "tools/embedded_files.h"
+
+namespace agv::pipeline {
+namespace {
+
+Scenario default_with(const std::vector<std::pair<std::string, std::string>>& overrides) {
+  return load_scenario({tools::embedded_files().at("default_scenario.yaml"), "built-in default scenario", "",
+                        tools::embedded_files()},
+                       overrides);
+}
+
+struct Expectation {
+  std::vector<std::pair<std::string, std::string>> overrides;
+  double max_settle_s;
+};
+
+// Issue 3's bars, from camera images alone: the paper's bands (2 mm, 2 deg) reached within
+// 1.2 s (the paper's own 0.8-1.2 s) and kept to the end; no period breaks a vehicle limit;
+// perception within 0.5 mm / 0.2 deg RMS.
+TEST(ClosedLoop, SettlesWithinThePapersTimeFromImages) {
+  for (const Expectation& e :
+       {Expectation{{}, 1.2}, Expectation{{{"path_speed_m_s", "0.5"}}, 1.2},
+        Expectation{{{"initial_error.e_theta_rad", std::to_string(deg_to_rad(-7))}, {"initial_error.e_d_m", "-0.015"}}, 1.2}}) {
+    const Scenario s = default_with(e.overrides);
+    const RunResult run = run_lockstep(s);
+    const RunMetrics m = compute_metrics(run, s);
+    std::string label;
+    for (const auto& [k, v] : e.overrides) label += k + "=" + v + " ";
+    ASSERT_TRUE(m.settle_time_s.has_value()) << label;
+    EXPECT_LE(*m.settle_time_s, e.max_settle_s) << label;
+    EXPECT_EQ(m.limit_violations, 0) << label;
+    EXPECT_EQ(m.frames_lost, 0) << label;
+    EXPECT_LE(*m.perception_rms_e_d_m, 0.0005) << label;
+    EXPECT_LE(rad_to_deg(*m.perception_rms_e_theta_rad), 0.2) << label;
+  }
+}
+
+// The paper's a_max on every step: slower, but never a limit broken.
+TEST(ClosedLoop, PaperAccelerationOnEveryStepNeverBreaksTheLimit) {
+  const Scenario s = default_with({{"vehicle.a_max_m_s2", "0.05"}});
+  const RunMetrics m = compute_metrics(run_lockstep(s), s);
+  EXPECT_EQ(m.limit_violations, 0);
+  EXPECT_LE(m.max_abs_accel_m_s2, 0.05 * (1 + 1e-6));
+  ASSERT_TRUE(m.settle_time_s.has_value());
+}
+
+// The tape ends 1 m after the start: the vehicle holds, then stops within its acceleration
+// limit: from 0.3 m/s at 0.5 m/s^2 it needs 0.09 m plus what it covers while holding.
+TEST(ClosedLoop, StopsWhenTheTapeEnds) {
+  const Scenario s = default_with({{"path.segments.0.length_m", "1.2"}, {"start_s_m", "0.2"}});
+  const RunResult run = run_lockstep(s);
+  const RunMetrics m = compute_metrics(run, s);
+  EXPECT_EQ(m.limit_violations, 0);
+  EXPECT_GT(m.frames_lost, 0);
+  const TraceRow& last = run.rows.back();
+  EXPECT_NEAR(last.output.command.vx_m_s, 0.0, 1e-12);
+  EXPECT_TRUE(last.output.flags & control::kStopping);
+}
+
+TEST(ClosedLoop, LockstepIsDeterministic) {
+  const Scenario s = default_with({{"duration_s", "1.0"}});
+  const RunResult a = run_lockstep(s), b = run_lockstep(s);
+  ASSERT_EQ(a.rows.size(), b.rows.size());
+  for (size_t i = 0; i < a.rows.size(); ++i) {
+    EXPECT_EQ(a.rows[i].pose.x_m, b.rows[i].pose.x_m);
+    EXPECT_EQ(a.rows[i].measurement.e_d_m, b.rows[i].measurement.e_d_m);
+  }
+}
+
+// Threaded, the same scenario gives the same behaviour within tolerance: camera and control
+// run on their own clocks, so the measurement ages differ by up to a frame.
+TEST(ClosedLoop, ThreadedModeMatchesLockstep) {
+  const Scenario lockstep = default_with({{"duration_s", "2.0"}});
+  const Scenario threaded = default_with({{"duration_s", "2.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "4"}});
+  const RunMetrics a = compute_metrics(run_lockstep(lockstep), lockstep);
+  const RunResult run = run_threaded(threaded);
+  const RunMetrics b = compute_metrics(run, threaded);
+  ASSERT_TRUE(a.settle_time_s && b.settle_time_s);
+  EXPECT_NEAR(*b.settle_time_s, *a.settle_time_s, 0.3);
+  EXPECT_NEAR(b.max_abs_e_d_m, a.max_abs_e_d_m, 0.003);
+  EXPECT_EQ(b.limit_violations, 0);
+  for (const TraceRow& row : run.rows) {
+    if (row.has_measurement) {
+      EXPECT_LE(row.measurement_age_s, 0.35);
+    }
+  }
+}
+
+// Overload: the camera produces ten frames per control period, far faster than the control
+// thread consumes them; the queue stays bounded and every frame is accounted for.
+TEST(ClosedLoop, ThreadedOverloadLosesNothingUncounted) {
+  const Scenario s = default_with({{"duration_s", "1.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "2"},
+                                   {"loop.camera_fps", "100"}, {"loop.queue_capacity", "3"}, {"latency_frames", "0"}});
+  const RunResult run = run_threaded(s);
+  const QueueStats& q = run.queue;
+  EXPECT_EQ(q.pushed + q.rejected, run.frames.size());
+  // What was not popped, dropped or superseded was still queued at the end: at most capacity.
+  EXPECT_GE(q.pushed, q.popped + q.dropped + q.superseded);
+  EXPECT_LE(q.pushed - (q.popped + q.dropped + q.superseded), 3u);
+  EXPECT_LE(q.max_depth, 3u);
+  EXPECT_GT(q.dropped + q.superseded, 0u);
+  EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
+}
+
+}  // namespace
+}  // namespace agv::pipeline
