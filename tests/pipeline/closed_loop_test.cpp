@@ -12,6 +12,14 @@
 namespace agv::pipeline {
 namespace {
 
+// Sanitizers slow frames down 5-15 times: timings of the threaded loop mean nothing there
+// (the runs still happen, for the sanitizer to check them).
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+
 Scenario default_with(const std::vector<std::pair<std::string, std::string>>& overrides) {
   return load_scenario({tools::embedded_files().at("default_scenario.yaml"), "built-in default scenario", "",
                         tools::embedded_files()},
@@ -77,17 +85,19 @@ TEST(ClosedLoop, LockstepIsDeterministic) {
 }
 
 // Threaded, the same scenario gives the same behaviour within tolerance: camera and control
-// run on their own clocks, so the measurement ages differ by up to a frame.
+// run on their own clocks, so the measurement ages differ by up to a frame. Real time (time
+// scale 1) leaves 100 ms per period, ample even for a sanitizer build.
 TEST(ClosedLoop, ThreadedModeMatchesLockstep) {
   const Scenario lockstep = default_with({{"duration_s", "2.0"}});
-  const Scenario threaded = default_with({{"duration_s", "2.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "4"}});
+  const Scenario threaded = default_with({{"duration_s", "2.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "1"}});
   const RunMetrics a = compute_metrics(run_lockstep(lockstep), lockstep);
   const RunResult run = run_threaded(threaded);
   const RunMetrics b = compute_metrics(run, threaded);
+  EXPECT_EQ(b.limit_violations, 0);
+  if (kSanitized) GTEST_SKIP() << "timing comparison skipped in a sanitizer build";
   ASSERT_TRUE(a.settle_time_s && b.settle_time_s);
   EXPECT_NEAR(*b.settle_time_s, *a.settle_time_s, 0.3);
   EXPECT_NEAR(b.max_abs_e_d_m, a.max_abs_e_d_m, 0.003);
-  EXPECT_EQ(b.limit_violations, 0);
   for (const TraceRow& row : run.rows) {
     if (row.has_measurement) {
       EXPECT_LE(row.measurement_age_s, 0.35);
@@ -107,7 +117,14 @@ TEST(ClosedLoop, ThreadedOverloadLosesNothingUncounted) {
   EXPECT_GE(q.pushed, q.popped + q.dropped + q.superseded);
   EXPECT_LE(q.pushed - (q.popped + q.dropped + q.superseded), 3u);
   EXPECT_LE(q.max_depth, 3u);
-  EXPECT_GT(q.dropped + q.superseded, 0u);
+  // The controller takes at most one item per period: whatever was pushed beyond that and the
+  // queue's capacity must show up as dropped or superseded.
+  if (q.pushed > run.rows.size() + 3) {
+    EXPECT_GT(q.dropped + q.superseded, 0u);
+  }
+  if (!kSanitized) {
+    EXPECT_GT(run.frames.size(), 2 * run.rows.size());  // the camera did outrun control
+  }
   EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
 }
 
