@@ -16,7 +16,15 @@ cv::Vec3d median_colour(const cv::Mat& frame) {
   int histogram[3][256] = {};
   for (int y = 0; y < frame.rows; ++y) {
     const unsigned char* row = frame.ptr<unsigned char>(y);
-    for (int x = 0; x < frame.cols * channels; ++x) ++histogram[x % channels][row[x]];
+    if (channels == 1) {
+      for (int x = 0; x < frame.cols; ++x) ++histogram[0][row[x]];
+    } else {
+      for (int x = 0; x < frame.cols; ++x) {
+        ++histogram[0][row[3 * x]];
+        ++histogram[1][row[3 * x + 1]];
+        ++histogram[2][row[3 * x + 2]];
+      }
+    }
   }
   cv::Vec3d median(0, 0, 0);
   const int half = static_cast<int>(frame.total() / 2);

@@ -6,9 +6,12 @@
 namespace agv::perception {
 namespace {
 
-float median_of(std::vector<float> values) {
-  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-  return values[values.size() / 2];
+// Median of values[first, last), using `scratch` (no allocation once it has grown).
+float median_of(const float* first, const float* last, std::vector<float>* scratch) {
+  scratch->assign(first, last);
+  const auto middle = scratch->begin() + scratch->size() / 2;
+  std::nth_element(scratch->begin(), middle, scratch->end());
+  return *middle;
 }
 
 // Contrast samples along a line of pixels starting at `first`, `stride` bytes apart.
@@ -37,7 +40,7 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
   const int last_line = std::min((along_rows ? box.br().y : box.br().x) * ds,
                                  along_rows ? frame.rows : frame.cols) - 1;
   const cv::Mat& labels = coarse.labels_small;
-  std::vector<float> raw, profile;
+  std::vector<float> raw, profile, scratch;
 
   for (int line = first_line; line <= last_line; line += options.step) {
     // Extent of the region on this line, from the coarse labels.
@@ -67,15 +70,22 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
     for (int i = 1; i + 1 < count; ++i) profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
 
     const int side = std::max(3, options.margin_px / 2);
-    const float floor_first = median_of({profile.begin(), profile.begin() + side});
-    const float floor_second = median_of({profile.end() - side, profile.end()});
+    const float floor_first = median_of(profile.data(), profile.data() + side, &scratch);
+    const float floor_second = median_of(profile.data() + count - side, profile.data() + count, &scratch);
     const int peak = static_cast<int>(std::max_element(profile.begin(), profile.end()) - profile.begin());
-    // Tape level: median of the samples in the upper half between floor and peak.
+    // Tape level: mean of the samples in the upper half between floor and peak. It sets the
+    // threshold of both edges alike, so its error moves them apart or together and leaves
+    // their midpoint, the centre line, where it is: a mean is precise enough.
     const float floor_level = 0.5f * (floor_first + floor_second);
     const float upper = 0.5f * (floor_level + profile[peak]);
-    std::vector<float> tape_samples;
-    for (float v : profile) if (v > upper) tape_samples.push_back(v);
-    const float tape_level = median_of(tape_samples);
+    float tape_sum = 0.0f;
+    int tape_count = 0;
+    for (float v : profile) {
+      if (v <= upper) continue;
+      tape_sum += v;
+      ++tape_count;
+    }
+    const float tape_level = tape_sum / std::max(1, tape_count);
     const float contrast = tape_level - floor_level;
     if (contrast < options.min_contrast_to_noise * std::max(coarse.floor_noise, 0.01f)) continue;
 

@@ -48,11 +48,13 @@ class LineEstimator {
  public:
   struct Options {
     TapeHints tape;
-    int downsample = 4;
+    int downsample = 4;                   // a power of two
     int min_region_area_small_px = 12;
     int min_points = 12;
     double min_visible_length_m = 0.03;
     double width_tolerance = 0.35;        // accepted |measured - expected| / expected
+    double width_spread_tolerance = 0.3;  // accepted 10-90 % range of the widths / median width
+    double min_confidence = 0.1;          // weaker evidence: no line
     double inlier_threshold_m = 0.0015;
     double min_inlier_fraction = 0.5;
     int ransac_iterations = 64;

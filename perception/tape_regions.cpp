@@ -45,33 +45,49 @@ cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
   return contrast;
 }
 
+// Mean over `width` samples centred on each sample, along rows (horizontal) or columns, with
+// the edge samples repeated beyond the border; running sums, O(1) per sample.
+cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
+  const cv::Mat in = horizontal ? s : cv::Mat(s.t());
+  cv::Mat out(in.size(), CV_32F);
+  const int n = in.cols, before = (width - 1) / 2, after = width - 1 - before;
+  std::vector<double> prefix(n + width + 1);
+  for (int y = 0; y < in.rows; ++y) {
+    const float* row = in.ptr<float>(y);
+    float* o = out.ptr<float>(y);
+    prefix[0] = 0.0;
+    for (int i = 0; i < n + width; ++i) {
+      const int x = std::clamp(i - before, 0, n - 1);  // padded sample i is row[x]
+      prefix[i + 1] = prefix[i] + row[x];
+    }
+    for (int x = 0; x < n; ++x) o[x] = static_cast<float>((prefix[x + before + after + 1] - prefix[x]) / width);
+  }
+  return horizontal ? out : cv::Mat(out.t());
+}
+
 // Bar response along rows (horizontal = true) or columns for a bar `width` samples wide:
 // mean over the bar minus the mean of two flanks of width/2 on each side.
 cv::Mat bar_response(const cv::Mat& s, double width, bool horizontal) {
   const int bar = std::max(1, static_cast<int>(std::lround(width)));
   const int flank = std::max(1, static_cast<int>(std::lround(width / 2.0)));
   const int offset = (bar + flank + 1) / 2;  // centre of a flank from the centre of the bar
-  cv::Mat centre, flanks;
-  const cv::Size bar_kernel = horizontal ? cv::Size(bar, 1) : cv::Size(1, bar);
-  const cv::Size flank_kernel = horizontal ? cv::Size(flank, 1) : cv::Size(1, flank);
-  cv::blur(s, centre, bar_kernel, cv::Point(-1, -1), cv::BORDER_REPLICATE);
-  cv::blur(s, flanks, flank_kernel, cv::Point(-1, -1), cv::BORDER_REPLICATE);
+  const cv::Mat centre = box_mean(s, bar, horizontal);
+  const cv::Mat flanks = box_mean(s, flank, horizontal);
   cv::Mat response(s.size(), CV_32F);
   for (int y = 0; y < s.rows; ++y) {
     float* out = response.ptr<float>(y);
     const float* c = centre.ptr<float>(y);
-    for (int x = 0; x < s.cols; ++x) {
-      float before, after;
-      if (horizontal) {
-        before = flanks.at<float>(y, std::max(0, x - offset));
-        after = flanks.at<float>(y, std::min(s.cols - 1, x + offset));
-      } else {
-        before = flanks.at<float>(std::max(0, y - offset), x);
-        after = flanks.at<float>(std::min(s.rows - 1, y + offset), x);
+    // A bar stands out on both sides: the weaker side bounds the response, so that a single
+    // edge (a shadow boundary, the edge of a wide stain) does not look like a bar.
+    if (horizontal) {
+      const float* f = flanks.ptr<float>(y);
+      for (int x = 0; x < s.cols; ++x) {
+        out[x] = c[x] - std::max(f[std::max(0, x - offset)], f[std::min(s.cols - 1, x + offset)]);
       }
-      // A bar stands out on both sides: the weaker side bounds the response, so that a single
-      // edge (a shadow boundary, the edge of a wide stain) does not look like a bar.
-      out[x] = c[x] - std::max(before, after);
+    } else {
+      const float* before = flanks.ptr<float>(std::max(0, y - offset));
+      const float* after = flanks.ptr<float>(std::min(s.rows - 1, y + offset));
+      for (int x = 0; x < s.cols; ++x) out[x] = c[x] - std::max(before[x], after[x]);
     }
   }
   return response;
@@ -119,37 +135,48 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   }
   result.floor_noise = 1.4826f * (histogram_median(deviation, 0, kBins) - kLow);
 
-  cv::Mat mask = s > threshold;
-  cv::Mat stats, centroids;
-  const int count = cv::connectedComponentsWithStats(mask, result.labels_small, stats, centroids, 8,
-                                                     CV_32S);
+  const cv::Mat mask = s > threshold;
+  // Plain labelling; the statistics (area, box, centroid, second moments) in one pass below.
+  // (connectedComponentsWithStats costs ten times as much here.)
+  const int count = cv::connectedComponents(mask, result.labels_small, 8, CV_32S);
+  struct Sums {
+    int area = 0, x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+    double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  };
+  std::vector<Sums> sums(count);
+  for (int y = 0; y < s.rows; ++y) {
+    const int* row = result.labels_small.ptr<int>(y);
+    for (int x = 0; x < s.cols; ++x) {
+      if (row[x] == 0) continue;
+      Sums& m = sums[row[x]];
+      ++m.area;
+      m.x0 = std::min(m.x0, x);
+      m.x1 = std::max(m.x1, x);
+      m.y0 = std::min(m.y0, y);
+      m.y1 = std::max(m.y1, y);
+      m.sx += x;
+      m.sy += y;
+      m.sxx += static_cast<double>(x) * x;
+      m.syy += static_cast<double>(y) * y;
+      m.sxy += static_cast<double>(x) * y;
+    }
+  }
   for (int label = 1; label < count; ++label) {
-    const int area = stats.at<int>(label, cv::CC_STAT_AREA);
-    if (area < min_area_small_px) continue;
+    const Sums& m = sums[label];
+    if (m.area < min_area_small_px) continue;
     TapeRegion region;
     region.label = label;
-    region.area_small_px = area;
-    region.box_small = cv::Rect(stats.at<int>(label, cv::CC_STAT_LEFT), stats.at<int>(label, cv::CC_STAT_TOP),
-                                stats.at<int>(label, cv::CC_STAT_WIDTH), stats.at<int>(label, cv::CC_STAT_HEIGHT));
-    // Second moments of the region's pixels give its major axis.
-    const cv::Point2d c(centroids.at<double>(label, 0), centroids.at<double>(label, 1));
-    double sxx = 0, syy = 0, sxy = 0;
-    for (int y = region.box_small.y; y < region.box_small.br().y; ++y) {
-      const int* row = result.labels_small.ptr<int>(y);
-      for (int x = region.box_small.x; x < region.box_small.br().x; ++x) {
-        if (row[x] != label) continue;
-        const double dx = x - c.x, dy = y - c.y;
-        sxx += dx * dx;
-        syy += dy * dy;
-        sxy += dx * dy;
-      }
-    }
-    const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+    region.area_small_px = m.area;
+    region.box_small = cv::Rect(m.x0, m.y0, m.x1 - m.x0 + 1, m.y1 - m.y0 + 1);
+    const double area = m.area;
+    const cv::Point2d c(m.sx / area, m.sy / area);
+    // Central second moments give the major axis.
+    const double cxx = m.sxx / area - c.x * c.x, cyy = m.syy / area - c.y * c.y, cxy = m.sxy / area - c.x * c.y;
+    const double angle = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);
     region.direction = {std::cos(angle), std::sin(angle)};
-    const double major_var = (sxx + syy) / 2.0 / area +
-                             std::sqrt(std::pow((sxx - syy) / 2.0 / area, 2) + std::pow(sxy / area, 2));
+    const double major_var = (cxx + cyy) / 2.0 + std::sqrt(std::pow((cxx - cyy) / 2.0, 2) + cxy * cxy);
     region.length_px = std::sqrt(12.0 * major_var) * downsample;
-    region.width_px = static_cast<double>(area) * downsample * downsample / std::max(region.length_px, 1.0);
+    region.width_px = area * downsample * downsample / std::max(region.length_px, 1.0);
     region.centroid_px = {(c.x + 0.5) * downsample - 0.5, (c.y + 0.5) * downsample - 0.5};
     result.regions.push_back(region);
   }
