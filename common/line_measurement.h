@@ -6,14 +6,14 @@ namespace agv {
 // shared/DESIGN.md: e_theta = vehicle yaw - path tangent yaw (CCW positive), e_d = signed
 // distance of the vehicle reference point from the path (positive: vehicle left of the path).
 struct LineMeasurement {
-  double stamp_s = 0.0;          // time the frame was taken
-  bool line_found = false;       // false: the other fields carry no line
+  double stamp_s = 0.0;     // time the frame was taken
+  bool line_found = false;  // false: the other fields carry no line
   double e_theta_rad = 0.0;
   double e_d_m = 0.0;
-  double curvature_1_m = 0.0;    // path curvature at the foot point (left turn positive)
-  double confidence = 0.0;       // 0 (no evidence) .. 1 (strong evidence)
-  int points_used = 0;           // centre-line points that support the fit
-  double tape_width_m = 0.0;     // measured width of the tape
+  double curvature_1_m = 0.0;  // path curvature at the foot point (left turn positive)
+  double confidence = 0.0;     // 0 (no evidence) .. 1 (strong evidence)
+  int points_used = 0;         // centre-line points that support the fit
+  double tape_width_m = 0.0;   // measured width of the tape
 };
 
 }  // namespace agv

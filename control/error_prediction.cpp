@@ -23,8 +23,8 @@ TrackingError rk4(const TrackingError& e, const BodyTwist& u, double curvature_1
   const TrackingError k2 = derivative(add(e, k1, h / 2), u, curvature_1_m);
   const TrackingError k3 = derivative(add(e, k2, h / 2), u, curvature_1_m);
   const TrackingError k4 = derivative(add(e, k3, h), u, curvature_1_m);
-  return {e.e_theta_rad + h / 6 * (k1.e_theta_rad + 2 * k2.e_theta_rad + 2 * k3.e_theta_rad +
-                                   k4.e_theta_rad),
+  return {e.e_theta_rad +
+              h / 6 * (k1.e_theta_rad + 2 * k2.e_theta_rad + 2 * k3.e_theta_rad + k4.e_theta_rad),
           e.e_d_m + h / 6 * (k1.e_d_m + 2 * k2.e_d_m + 2 * k3.e_d_m + k4.e_d_m)};
 }
 
@@ -42,8 +42,9 @@ TrackingError CommandHistory::predict(const TrackingError& at_from, double curva
   double t = from_s;
   while (t < to_s) {
     // The command acting at t: the last one sent at or before t (or the first, if none).
-    auto it = std::upper_bound(entries_.begin(), entries_.end(), t,
-                               [](double time, const Entry& entry) { return time < entry.sent_at_s; });
+    auto it =
+        std::upper_bound(entries_.begin(), entries_.end(), t,
+                         [](double time, const Entry& entry) { return time < entry.sent_at_s; });
     const Entry& acting = (it == entries_.begin()) ? *it : *std::prev(it);
     const double piece_end_s = (it == entries_.end()) ? to_s : std::min(to_s, it->sent_at_s);
     const double piece_s = piece_end_s - t;

@@ -74,11 +74,13 @@ ControllerOutput FiniteStepController::update(const TrackingEstimate& estimate,
       found = plan_is_feasible(plan, context, estimate.curvature_1_m, /*check_rates=*/false) &&
               std::abs(plan.lateral_m_s.front()) <= stoppable_m_s;
     }
-    if (!found) plan = plan_finite_step(options_.n_max, start, context.path_speed_m_s, context.ts_s);
+    if (!found)
+      plan = plan_finite_step(options_.n_max, start, context.path_speed_m_s, context.ts_s);
   }
   // A saturated plan is not followed step by step, so there is nothing to shrink: the next
   // period chooses N afresh.
-  steps_left_ = (options_.mode == HorizonMode::kShrinking && !out.no_feasible_horizon) ? plan.steps - 1 : 0;
+  steps_left_ =
+      (options_.mode == HorizonMode::kShrinking && !out.no_feasible_horizon) ? plan.steps - 1 : 0;
   out.horizon_steps = plan.steps;
   out.command.vx_m_s = context.path_speed_m_s;
   out.command.vy_m_s = -plan.lateral_m_s.front();

@@ -20,14 +20,14 @@ enum class HorizonMode {
 class FiniteStepController : public PathController {
  public:
   struct Options {
-    double a_max_m_s2 = 0.05;     // eq. 22 bound on |a| inside the plan (paper: 0.05)
-    double v_x_max_m_s = 0.5;     // eq. 22 bound on the first lateral speed (paper: 0.5)
+    double a_max_m_s2 = 0.05;  // eq. 22 bound on |a| inside the plan (paper: 0.05)
+    double v_x_max_m_s = 0.5;  // eq. 22 bound on the first lateral speed (paper: 0.5)
     // Shrinking settles faster than fixed in every condition measured (0.5 s against 0.9 s on
     // Table 1 with one frame of latency) provided the latency is compensated.
     HorizonMode mode = HorizonMode::kShrinking;
-    int n_fixed = 4;              // fixed mode: N, raised when the limits need more steps
+    int n_fixed = 4;  // fixed mode: N, raised when the limits need more steps
     int n_min = 1;
-    int n_max = 10;               // the paper's experiment corrected in 10 steps
+    int n_max = 10;  // the paper's experiment corrected in 10 steps
   };
 
   explicit FiniteStepController(const Options& options) : options_(options) {}

@@ -17,11 +17,11 @@ struct PlanErrors {
 };
 
 struct FiniteStepPlan {
-  int steps = 0;                        // N
-  double c = 0.0;                       // eq. 20
-  std::vector<double> lateral_m_s;      // v_x(k), k = 0..N-1 (eq. 21)
-  double turn_rate_rad_s = 0.0;         // dw = e_theta(0) / (N Ts): eq. 16 (erratum 1 of DIGEST)
-  double eq22_accel_m_s2 = 0.0;         // |a|max of eq. 22 = c e_theta(0)^2 (2N-1) / N^2
+  int steps = 0;                    // N
+  double c = 0.0;                   // eq. 20
+  std::vector<double> lateral_m_s;  // v_x(k), k = 0..N-1 (eq. 21)
+  double turn_rate_rad_s = 0.0;     // dw = e_theta(0) / (N Ts): eq. 16 (erratum 1 of DIGEST)
+  double eq22_accel_m_s2 = 0.0;     // |a|max of eq. 22 = c e_theta(0)^2 (2N-1) / N^2
 };
 
 // Eq. 20-21: the control sequence that brings e_d(N) to 0 on the eq. 12 model while e_theta

@@ -33,17 +33,18 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
   // Times are sums of periods: a nanosecond of slack keeps rounding from ending the hold early.
   constexpr double kTimeSlack_s = 1e-9;
   const bool recent_good =
-      last_good_ && (!line_lost_ || now_s - last_good_->stamp_s <= options_.line_lost_hold_s + kTimeSlack_s);
+      last_good_ &&
+      (!line_lost_ || now_s - last_good_->stamp_s <= options_.line_lost_hold_s + kTimeSlack_s);
   if (recent_good) {
     if (stopped_tracking_) controller_->reset();
     stopped_tracking_ = false;
     if (line_lost_) out.flags |= kHolding;
-    TrackingEstimate estimate{last_good_->e_theta_rad, last_good_->e_d_m,
-                              last_good_->curvature_1_m, now_s - last_good_->stamp_s};
+    TrackingEstimate estimate{last_good_->e_theta_rad, last_good_->e_d_m, last_good_->curvature_1_m,
+                              now_s - last_good_->stamp_s};
     if (options_.latency_compensation) {
-      const TrackingError predicted = history_.predict(
-          {estimate.e_theta_rad, estimate.e_d_m}, estimate.curvature_1_m, last_good_->stamp_s,
-          now_s);
+      const TrackingError predicted =
+          history_.predict({estimate.e_theta_rad, estimate.e_d_m}, estimate.curvature_1_m,
+                           last_good_->stamp_s, now_s);
       estimate.e_theta_rad = predicted.e_theta_rad;
       estimate.e_d_m = predicted.e_d_m;
     }

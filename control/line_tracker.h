@@ -21,11 +21,11 @@ enum TrackerFlag : std::uint32_t {
 };
 
 struct TrackerOutput {
-  BodyTwist command;               // within the vehicle limits, always
+  BodyTwist command;  // within the vehicle limits, always
   std::uint32_t flags = 0;
   int horizon_steps = 0;
   bool has_estimate = false;
-  TrackingEstimate estimate;       // what the controller acted on (after latency prediction)
+  TrackingEstimate estimate;  // what the controller acted on (after latency prediction)
 };
 
 // Runs a PathController once per period on the newest measurement and makes every command safe:

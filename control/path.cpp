@@ -42,8 +42,8 @@ double PathSegment::closest_s(const Eigen::Vector2d& p) const {
   if (to_p.norm() < 1e-12) return 0.0;  // every point of the arc is equally close
   // Angle swept from the start point to the ray through p, in the direction of travel.
   const Eigen::Vector2d to_start = start - centre;
-  const double swept_rad = std::atan2(to_start.x() * to_p.y() - to_start.y() * to_p.x(),
-                                      to_start.dot(to_p));
+  const double swept_rad =
+      std::atan2(to_start.x() * to_p.y() - to_start.y() * to_p.x(), to_start.dot(to_p));
   double s_m = swept_rad / curvature_1_m;
   const double circumference_m = 2.0 * std::numbers::pi * std::abs(radius_m);
   if (s_m < 0.0) s_m += circumference_m;

@@ -18,8 +18,8 @@ struct TrackingEstimate {
 // What a controller needs to know besides the error, once per control period.
 struct ControlContext {
   double ts_s = 0.1;
-  double path_speed_m_s = 0.3;       // v_tau: speed along the path
-  BodyTwist previous_command;        // the command sent last period
+  double path_speed_m_s = 0.3;  // v_tau: speed along the path
+  BodyTwist previous_command;   // the command sent last period
   VehicleLimits limits;
 };
 
@@ -34,7 +34,8 @@ struct ControllerOutput {
 class PathController {
  public:
   virtual ~PathController() = default;
-  virtual ControllerOutput update(const TrackingEstimate& estimate, const ControlContext& context) = 0;
+  virtual ControllerOutput update(const TrackingEstimate& estimate,
+                                  const ControlContext& context) = 0;
   // Forget internal state (a manoeuvre under way, integrators): called when tracking restarts.
   virtual void reset() = 0;
   virtual std::string name() const = 0;

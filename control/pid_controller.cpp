@@ -25,7 +25,8 @@ ControllerOutput PidController::update(const TrackingEstimate& estimate,
     integral_e_theta_rad_s_ = std::clamp(integral_e_theta_rad_s_, -bound, bound);
   }
   const double d_e_d = has_previous_ ? (estimate.e_d_m - previous_e_d_m_) / ts : 0.0;
-  const double d_e_theta = has_previous_ ? (estimate.e_theta_rad - previous_e_theta_rad_) / ts : 0.0;
+  const double d_e_theta =
+      has_previous_ ? (estimate.e_theta_rad - previous_e_theta_rad_) / ts : 0.0;
   previous_e_d_m_ = estimate.e_d_m;
   previous_e_theta_rad_ = estimate.e_theta_rad;
   has_previous_ = true;

@@ -42,8 +42,8 @@ std::uint32_t check_limits(const BodyTwist& command, const BodyTwist& previous,
   if (exceeds(command.vx_m_s, limits.v_forward_max_m_s)) violated |= kViolatesForwardSpeed;
   if (exceeds(command.vy_m_s, limits.v_lateral_max_m_s)) violated |= kViolatesLateralSpeed;
   if (exceeds(command.wz_rad_s, limits.w_max_rad_s)) violated |= kViolatesYawRate;
-  const double accel_m_s2 = std::hypot(command.vx_m_s - previous.vx_m_s,
-                                       command.vy_m_s - previous.vy_m_s) / ts_s;
+  const double accel_m_s2 =
+      std::hypot(command.vx_m_s - previous.vx_m_s, command.vy_m_s - previous.vy_m_s) / ts_s;
   if (exceeds(accel_m_s2, limits.a_max_m_s2)) violated |= kViolatesAcceleration;
   const double yaw_accel_rad_s2 = (command.wz_rad_s - previous.wz_rad_s) / ts_s;
   if (exceeds(yaw_accel_rad_s2, limits.alpha_max_rad_s2)) violated |= kViolatesYawAcceleration;

@@ -15,15 +15,35 @@ namespace agv::perception {
 namespace {
 
 // Keys this project reads, and keys OpenCV's calibration samples write that it ignores.
-const std::set<std::string> kOwnKeys = {
-    "image_width", "image_height", "camera_matrix", "distortion_coefficients", "mount_xyz_m",
-    "mount_rpy_rad", "avg_reprojection_error", "calibration_time", "nr_of_frames",
-    "mount_reprojection_error_px", "mount_views", "mount_calibration_time",
-    "mount_calibration_method", "calibration_method"};
-const std::set<std::string> kOpenCvSampleKeys = {
-    "board_width", "board_height", "square_size", "aspectRatio", "fix_aspect_ratio", "flags",
-    "per_view_reprojection_errors", "extrinsic_parameters", "image_points", "grid_points",
-    "nframes", "fisheye_model", "board_grid_points", "marker_size", "dictionary"};
+const std::set<std::string> kOwnKeys = {"image_width",
+                                        "image_height",
+                                        "camera_matrix",
+                                        "distortion_coefficients",
+                                        "mount_xyz_m",
+                                        "mount_rpy_rad",
+                                        "avg_reprojection_error",
+                                        "calibration_time",
+                                        "nr_of_frames",
+                                        "mount_reprojection_error_px",
+                                        "mount_views",
+                                        "mount_calibration_time",
+                                        "mount_calibration_method",
+                                        "calibration_method"};
+const std::set<std::string> kOpenCvSampleKeys = {"board_width",
+                                                 "board_height",
+                                                 "square_size",
+                                                 "aspectRatio",
+                                                 "fix_aspect_ratio",
+                                                 "flags",
+                                                 "per_view_reprojection_errors",
+                                                 "extrinsic_parameters",
+                                                 "image_points",
+                                                 "grid_points",
+                                                 "nframes",
+                                                 "fisheye_model",
+                                                 "board_grid_points",
+                                                 "marker_size",
+                                                 "dictionary"};
 
 [[noreturn]] void fail(const std::string& source, const std::string& field,
                        const std::string& what) {
@@ -36,7 +56,8 @@ int read_int(const cv::FileNode& root, const std::string& key, const std::string
   const cv::FileNode node = root[key];
   if (node.empty()) fail(source, key, "missing");
   if (!node.isInt()) {
-    if (node.isReal() && std::floor(node.real()) == node.real()) return static_cast<int>(node.real());
+    if (node.isReal() && std::floor(node.real()) == node.real())
+      return static_cast<int>(node.real());
     fail(source, key, "expected an integer");
   }
   return static_cast<int>(node);
@@ -93,15 +114,14 @@ double read_optional_real(const cv::FileNode& root, const std::string& key,
 
 // The distorted radius must keep growing out to the farthest image corner; where it turns back
 // the model folds the image onto itself and pixels there have no unique ray.
-void check_distortion_does_not_fold(const CameraIntrinsics& intrinsics,
-                                    const std::string& source) {
+void check_distortion_does_not_fold(const CameraIntrinsics& intrinsics, const std::string& source) {
   if (intrinsics.distortion.empty()) return;
   const cv::Matx33d& k = intrinsics.camera_matrix;
   const double fx = k(0, 0), fy = k(1, 1), cx = k(0, 2), cy = k(1, 2);
   const double w = intrinsics.width_px - 1.0, h = intrinsics.height_px - 1.0;
   const cv::Mat distortion = cv::Mat(intrinsics.distortion, true).reshape(1, 1);
-  for (const cv::Point2d corner : {cv::Point2d(0, 0), cv::Point2d(w, 0), cv::Point2d(0, h),
-                                   cv::Point2d(w, h)}) {
+  for (const cv::Point2d corner :
+       {cv::Point2d(0, 0), cv::Point2d(w, 0), cv::Point2d(0, h), cv::Point2d(w, h)}) {
     const cv::Point2d direction((corner.x - cx) / fx, (corner.y - cy) / fy);
     const double corner_radius_px = std::hypot(corner.x - cx, corner.y - cy);
     std::vector<cv::Point3d> ray;
@@ -147,7 +167,8 @@ void validate_intrinsics(const CameraIntrinsics& intrinsics, const std::string& 
     if (!std::isfinite(k.val[i])) fail(source, "camera_matrix", "contains a non-finite value");
   }
   if (!(k(0, 0) > 0.0) || !(k(1, 1) > 0.0)) {
-    fail(source, "camera_matrix", "focal lengths fx and fy must be positive (matrix does not invert)");
+    fail(source, "camera_matrix",
+         "focal lengths fx and fy must be positive (matrix does not invert)");
   }
   if (k(1, 0) != 0.0 || k(2, 0) != 0.0 || k(2, 1) != 0.0 || k(2, 2) != 1.0) {
     fail(source, "camera_matrix", "expected [[fx, s, cx], [0, fy, cy], [0, 0, 1]]");
@@ -186,8 +207,8 @@ void validate_mount(const MountPose& mount, const std::string& source) {
 CameraFile parse_camera_text(const std::string& yaml_text, const std::string& source) {
   cv::FileStorage storage;
   try {
-    storage.open(yaml_text, cv::FileStorage::READ | cv::FileStorage::MEMORY |
-                                cv::FileStorage::FORMAT_YAML);
+    storage.open(yaml_text,
+                 cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_YAML);
   } catch (const cv::Exception& e) {
     throw InputError(source + ": not a readable OpenCV YAML file (" + e.err + ")");
   }
@@ -196,14 +217,16 @@ CameraFile parse_camera_text(const std::string& yaml_text, const std::string& so
   if (!root.isMap()) throw InputError(source + ": expected a YAML mapping at the top level");
   for (const std::string& key : root.keys()) {
     if (!kOwnKeys.count(key) && !kOpenCvSampleKeys.count(key)) {
-      fail(source, key, "unknown key (camera files hold image_width, image_height, "
-                        "camera_matrix, distortion_coefficients, mount_xyz_m, mount_rpy_rad)");
+      fail(source, key,
+           "unknown key (camera files hold image_width, image_height, "
+           "camera_matrix, distortion_coefficients, mount_xyz_m, mount_rpy_rad)");
     }
   }
   if (!root["fisheye_model"].empty() && root["fisheye_model"].isInt() &&
       static_cast<int>(root["fisheye_model"]) != 0) {
-    fail(source, "fisheye_model", "the fisheye model is not supported; calibrate with the "
-                                  "standard (pinhole + radial/tangential) model");
+    fail(source, "fisheye_model",
+         "the fisheye model is not supported; calibrate with the "
+         "standard (pinhole + radial/tangential) model");
   }
 
   CameraFile camera;
@@ -301,13 +324,15 @@ void save_camera_file(const std::string& path, const CameraFile& camera) {
   }
   std::error_code error;
   std::filesystem::rename(temporary, path, error);
-  if (error) throw InputError(path + ": cannot move the new camera file into place: " + error.message());
+  if (error)
+    throw InputError(path + ": cannot move the new camera file into place: " + error.message());
 }
 
 CameraModel camera_model_of(const CameraFile& camera, const std::string& source) {
   if (!camera.mount) {
-    throw InputError(source + ": field 'mount_xyz_m': missing; this file holds intrinsics only "
-                              "(run 'agv calibrate mount' to add the camera's mount pose)");
+    throw InputError(source +
+                     ": field 'mount_xyz_m': missing; this file holds intrinsics only "
+                     "(run 'agv calibrate mount' to add the camera's mount pose)");
   }
   return CameraModel(camera.intrinsics, *camera.mount);
 }

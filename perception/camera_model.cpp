@@ -23,9 +23,9 @@ std::vector<cv::Point2d> CameraModel::undistort(const std::vector<cv::Point2d>& 
   std::vector<cv::Point2d> normalised;
   if (pixels.empty()) return normalised;
   // OpenCV's default is 5 fixed-point iterations: not enough for metric accuracy at the corners.
-  cv::undistortPoints(pixels, normalised, camera_matrix_, distortion_, cv::noArray(),
-                      cv::noArray(),
-                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+  cv::undistortPoints(
+      pixels, normalised, camera_matrix_, distortion_, cv::noArray(), cv::noArray(),
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
   return normalised;
 }
 

@@ -11,7 +11,7 @@ namespace agv::perception {
 struct ContrastAxis {
   cv::Vec3f weights = {0, 0, 0};  // for grey images only weights[0] is used
   float offset = 0.0f;
-  bool from_hint = false;         // the tape colour came from the caller, not the image
+  bool from_hint = false;  // the tape colour came from the caller, not the image
 
   float apply(const cv::Vec3b& bgr) const {
     return weights[0] * bgr[0] + weights[1] * bgr[1] + weights[2] * bgr[2] + offset;

@@ -20,7 +20,8 @@ void sample_contrast(const unsigned char* first, size_t stride, int count, int c
   out->resize(count);
   for (int i = 0; i < count; ++i) {
     const unsigned char* p = first + i * stride;
-    (*out)[i] = channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
+    (*out)[i] =
+        channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
   }
 }
 
@@ -37,8 +38,9 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
   const int line_length = along_rows ? frame.cols : frame.rows;  // samples on one scan line
   const cv::Rect& box = region.box_small;
   const int first_line = (along_rows ? box.y : box.x) * ds;
-  const int last_line = std::min((along_rows ? box.br().y : box.br().x) * ds,
-                                 along_rows ? frame.rows : frame.cols) - 1;
+  const int last_line =
+      std::min((along_rows ? box.br().y : box.br().x) * ds, along_rows ? frame.rows : frame.cols) -
+      1;
   const cv::Mat& labels = coarse.labels_small;
   std::vector<float> raw, profile, scratch;
 
@@ -67,12 +69,15 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
     profile.resize(count);
     profile[0] = raw[0];
     profile[count - 1] = raw[count - 1];
-    for (int i = 1; i + 1 < count; ++i) profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
+    for (int i = 1; i + 1 < count; ++i)
+      profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
 
     const int side = std::max(3, options.margin_px / 2);
     const float floor_first = median_of(profile.data(), profile.data() + side, &scratch);
-    const float floor_second = median_of(profile.data() + count - side, profile.data() + count, &scratch);
-    const int peak = static_cast<int>(std::max_element(profile.begin(), profile.end()) - profile.begin());
+    const float floor_second =
+        median_of(profile.data() + count - side, profile.data() + count, &scratch);
+    const int peak =
+        static_cast<int>(std::max_element(profile.begin(), profile.end()) - profile.begin());
     // Tape level: mean of the samples in the upper half between floor and peak. It sets the
     // threshold of both edges alike, so its error moves them apart or together and leaves
     // their midpoint, the centre line, where it is: a mean is precise enough.
@@ -104,8 +109,10 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
     EdgePair pair;
     pair.contrast = contrast;
     const float a = lo + first_pos, b = lo + second_pos;
-    pair.first_px = along_rows ? cv::Point2f(a, static_cast<float>(line)) : cv::Point2f(static_cast<float>(line), a);
-    pair.second_px = along_rows ? cv::Point2f(b, static_cast<float>(line)) : cv::Point2f(static_cast<float>(line), b);
+    pair.first_px = along_rows ? cv::Point2f(a, static_cast<float>(line))
+                               : cv::Point2f(static_cast<float>(line), a);
+    pair.second_px = along_rows ? cv::Point2f(b, static_cast<float>(line))
+                                : cv::Point2f(static_cast<float>(line), b);
     edges.push_back(pair);
   }
   return edges;

@@ -17,11 +17,11 @@ struct EdgePair {
 };
 
 struct EdgeScanOptions {
-  int margin_px = 8;                 // floor samples taken beyond the coarse region on each side
-  int flank_px = 0;                  // and at least this far (set to the tape width in pixels:
-                                     // the coarse bar response covers only the tape's core)
+  int margin_px = 8;  // floor samples taken beyond the coarse region on each side
+  int flank_px = 0;   // and at least this far (set to the tape width in pixels:
+                      // the coarse bar response covers only the tape's core)
   float min_contrast_to_noise = 5.0f;
-  int step = 1;                      // scan every step-th line
+  int step = 1;  // scan every step-th line
 };
 
 // Scans one coarse region at full resolution along rows (regions closer to vertical in the image)

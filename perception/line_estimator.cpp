@@ -31,9 +31,11 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
   // Tape width in downsampled pixels at the middle of the view; without a configured width,
   // the common widths from 12 to 50 mm.
   const double footprint_m = std::max(1e-6, floor_map_.typical_footprint_m());
-  const std::vector<double> widths_m = options_.tape.width_m > 0.0 ? std::vector<double>{options_.tape.width_m}
-                                                                   : std::vector<double>{0.012, 0.025, 0.05};
-  for (double width_m : widths_m) bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
+  const std::vector<double> widths_m = options_.tape.width_m > 0.0
+                                           ? std::vector<double>{options_.tape.width_m}
+                                           : std::vector<double>{0.012, 0.025, 0.05};
+  for (double width_m : widths_m)
+    bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
 }
 
 LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
@@ -57,7 +59,8 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   }
   const std::optional<ContrastAxis> axis = estimate_contrast_axis(small, options_.tape.color_bgr);
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", details);
-  const TapeRegions coarse = find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
+  const TapeRegions coarse =
+      find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
   if (coarse.regions.empty()) return not_found(stamp_s, "no tape-like region", details);
 
   // The largest region is the line (junctions and branches come with multi-line support).
@@ -65,8 +68,10 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   // The bar response covers at least the tape's middle half: 0.6 of a width beyond it reaches
   // past the edges onto the floor.
   EdgeScanOptions scan = options_.scan;
-  scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(0.6 * ds * *std::max_element(
-                                              bar_widths_small_px_.begin(), bar_widths_small_px_.end()))));
+  scan.flank_px = std::max(
+      scan.flank_px,
+      static_cast<int>(std::ceil(
+          0.6 * ds * *std::max_element(bar_widths_small_px_.begin(), bar_widths_small_px_.end()))));
   const std::vector<EdgePair> edges = scan_tape_edges(frame, *axis, coarse, region, scan);
 
   std::vector<Eigen::Vector2d> centres, firsts, seconds;
@@ -83,13 +88,15 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   if (details) {
     details->edges = kept_edges;
     details->centre_points_m = centres;
-    for (size_t i = 0; i < centres.size(); ++i) details->widths_m.push_back((firsts[i] - seconds[i]).norm());
+    for (size_t i = 0; i < centres.size(); ++i)
+      details->widths_m.push_back((firsts[i] - seconds[i]).norm());
   }
   if (static_cast<int>(centres.size()) < options_.min_points) {
     return not_found(stamp_s, "too few edge points on the tape", details);
   }
 
-  const LineFit fit = fit_line_robust(centres, options_.inlier_threshold_m, options_.ransac_iterations);
+  const LineFit fit =
+      fit_line_robust(centres, options_.inlier_threshold_m, options_.ransac_iterations);
   if (!fit.ok) return not_found(stamp_s, "line fit failed", details);
   Eigen::Vector2d direction = fit.direction;
   if (direction.x() < 0.0) direction = -direction;  // travel direction: forward in the vehicle
@@ -144,10 +151,12 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   // Confidence: every factor is 1 for a clean, fully visible tape of the right width.
   const double full_span_m = floor_map_.view_radius_m();
   const double span_factor = std::min(1.0, fit.span_m / full_span_m);
-  const double width_factor = expected_width_m > 0.0 ? std::exp(-0.5 * std::pow(width_error / 0.15, 2)) : 1.0;
+  const double width_factor =
+      expected_width_m > 0.0 ? std::exp(-0.5 * std::pow(width_error / 0.15, 2)) : 1.0;
   const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));
   m.confidence = inlier_fraction * span_factor * width_factor * residual_factor;
-  if (m.confidence < options_.min_confidence) return not_found(stamp_s, "evidence too weak", details);
+  if (m.confidence < options_.min_confidence)
+    return not_found(stamp_s, "evidence too weak", details);
   return m;
 }
 

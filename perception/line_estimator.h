@@ -15,15 +15,15 @@ namespace agv::perception {
 
 // What is known in advance about the tape.
 struct TapeHints {
-  double width_m = 0.025;                // expected width; 0: unknown (no width check)
-  std::optional<cv::Vec3d> color_bgr;    // tape colour; nullopt: found from the image
+  double width_m = 0.025;              // expected width; 0: unknown (no width check)
+  std::optional<cv::Vec3d> color_bgr;  // tape colour; nullopt: found from the image
 };
 
 // Everything the estimator saw in one frame, for annotation, plots and tests.
 struct LineDetection {
-  std::vector<EdgePair> edges;                    // pixel edges per scan line
-  std::vector<Eigen::Vector2d> centre_points_m;   // vehicle frame, one per edge pair
-  std::vector<double> widths_m;                   // chord per edge pair
+  std::vector<EdgePair> edges;                   // pixel edges per scan line
+  std::vector<Eigen::Vector2d> centre_points_m;  // vehicle frame, one per edge pair
+  std::vector<double> widths_m;                  // chord per edge pair
   std::vector<bool> inliers;
   Eigen::Vector2d line_point_m = Eigen::Vector2d::Zero();  // fitted centre line, vehicle frame
   Eigen::Vector2d line_direction = Eigen::Vector2d::UnitX();
@@ -48,7 +48,7 @@ class LineEstimator {
  public:
   struct Options {
     TapeHints tape;
-    int downsample = 4;                   // a power of two
+    int downsample = 4;  // a power of two
     int min_region_area_small_px = 12;
     int min_points = 12;
     double min_visible_length_m = 0.03;

@@ -7,12 +7,12 @@ namespace agv::perception {
 
 struct LineFit {
   bool ok = false;
-  Eigen::Vector2d point = Eigen::Vector2d::Zero();      // centroid of the inliers
-  Eigen::Vector2d direction = Eigen::Vector2d::UnitX(); // unit
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();       // centroid of the inliers
+  Eigen::Vector2d direction = Eigen::Vector2d::UnitX();  // unit
   std::vector<bool> inliers;
   int inlier_count = 0;
-  double rms_m = 0.0;    // orthogonal residual RMS of the inliers
-  double span_m = 0.0;   // extent of the inliers along the line
+  double rms_m = 0.0;   // orthogonal residual RMS of the inliers
+  double span_m = 0.0;  // extent of the inliers along the line
 };
 
 // Orthogonal (total least squares) line through points.

@@ -44,7 +44,7 @@ std::string MountPose::describe() const {
   const double tilt_deg = rad_to_deg(tilt_rad());
   const double tilt_towards_deg = rad_to_deg(std::atan2(axis.y(), axis.x()));
   const double top_yaw_deg = rad_to_deg(std::atan2(image_up.y(), image_up.x()));
-  const char* looking = tilt_deg < 1e-3 ? "looking straight down"
+  const char* looking = tilt_deg < 1e-3  ? "looking straight down"
                         : axis.z() < 0.0 ? "looking down"
                                          : "looking up (the floor is not in view)";
   char text[320];

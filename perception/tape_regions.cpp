@@ -60,7 +60,8 @@ cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
       const int x = std::clamp(i - before, 0, n - 1);  // padded sample i is row[x]
       prefix[i + 1] = prefix[i] + row[x];
     }
-    for (int x = 0; x < n; ++x) o[x] = static_cast<float>((prefix[x + before + after + 1] - prefix[x]) / width);
+    for (int x = 0; x < n; ++x)
+      o[x] = static_cast<float>((prefix[x + before + after + 1] - prefix[x]) / width);
   }
   return horizontal ? out : cv::Mat(out.t());
 }
@@ -96,7 +97,8 @@ cv::Mat bar_response(const cv::Mat& s, double width, bool horizontal) {
 }  // namespace
 
 TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
-                              const std::vector<double>& bar_widths_small_px, int min_area_small_px) {
+                              const std::vector<double>& bar_widths_small_px,
+                              int min_area_small_px) {
   TapeRegions result;
   result.downsample = downsample;
   result.contrast_small = contrast_of(small_frame, axis);
@@ -131,7 +133,8 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   // Robust spread of the floor: median absolute deviation, from the same histogram.
   std::vector<int> deviation(kBins, 0);
   for (int b = 0; b < split; ++b) {
-    deviation[std::min(kBins - 1, static_cast<int>(std::abs(value_of(b) - result.floor_level) / kBinWidth))] += histogram[b];
+    deviation[std::min(kBins - 1, static_cast<int>(std::abs(value_of(b) - result.floor_level) /
+                                                   kBinWidth))] += histogram[b];
   }
   result.floor_noise = 1.4826f * (histogram_median(deviation, 0, kBins) - kLow);
 
@@ -171,17 +174,20 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
     const double area = m.area;
     const cv::Point2d c(m.sx / area, m.sy / area);
     // Central second moments give the major axis.
-    const double cxx = m.sxx / area - c.x * c.x, cyy = m.syy / area - c.y * c.y, cxy = m.sxy / area - c.x * c.y;
+    const double cxx = m.sxx / area - c.x * c.x, cyy = m.syy / area - c.y * c.y,
+                 cxy = m.sxy / area - c.x * c.y;
     const double angle = 0.5 * std::atan2(2.0 * cxy, cxx - cyy);
     region.direction = {std::cos(angle), std::sin(angle)};
-    const double major_var = (cxx + cyy) / 2.0 + std::sqrt(std::pow((cxx - cyy) / 2.0, 2) + cxy * cxy);
+    const double major_var =
+        (cxx + cyy) / 2.0 + std::sqrt(std::pow((cxx - cyy) / 2.0, 2) + cxy * cxy);
     region.length_px = std::sqrt(12.0 * major_var) * downsample;
     region.width_px = area * downsample * downsample / std::max(region.length_px, 1.0);
     region.centroid_px = {(c.x + 0.5) * downsample - 0.5, (c.y + 0.5) * downsample - 0.5};
     result.regions.push_back(region);
   }
-  std::sort(result.regions.begin(), result.regions.end(),
-            [](const TapeRegion& a, const TapeRegion& b) { return a.area_small_px > b.area_small_px; });
+  std::sort(
+      result.regions.begin(), result.regions.end(),
+      [](const TapeRegion& a, const TapeRegion& b) { return a.area_small_px > b.area_small_px; });
   return result;
 }
 

@@ -11,23 +11,23 @@ namespace agv::perception {
 struct TapeRegion {
   int label = 0;
   int area_small_px = 0;
-  cv::Rect box_small;            // bounding box in the downsampled image
-  cv::Point2d centroid_px;       // full-resolution pixel coordinates
-  cv::Point2d direction;         // unit vector of the major axis in the image
-  double length_px = 0.0;        // extent along the major axis, full resolution
-  double width_px = 0.0;         // mean extent across it (area / length)
+  cv::Rect box_small;       // bounding box in the downsampled image
+  cv::Point2d centroid_px;  // full-resolution pixel coordinates
+  cv::Point2d direction;    // unit vector of the major axis in the image
+  double length_px = 0.0;   // extent along the major axis, full resolution
+  double width_px = 0.0;    // mean extent across it (area / length)
 };
 
 // The coarse stage of line detection: where in the image the tape may be.
 struct TapeRegions {
   int downsample = 4;
-  cv::Mat contrast_small;        // CV_32F contrast on the downsampled frame
-  cv::Mat bar_small;             // CV_32F bar-detector response (see find_tape_regions)
-  cv::Mat labels_small;          // CV_32S, 0 = background
-  float threshold = 0.5f;        // contrast level separating tape from floor
-  float floor_level = 0.0f;      // median contrast of the floor
-  float tape_level = 1.0f;       // median contrast of the tape-like pixels
-  float floor_noise = 0.0f;      // robust standard deviation of the floor contrast
+  cv::Mat contrast_small;           // CV_32F contrast on the downsampled frame
+  cv::Mat bar_small;                // CV_32F bar-detector response (see find_tape_regions)
+  cv::Mat labels_small;             // CV_32S, 0 = background
+  float threshold = 0.5f;           // contrast level separating tape from floor
+  float floor_level = 0.0f;         // median contrast of the floor
+  float tape_level = 1.0f;          // median contrast of the tape-like pixels
+  float floor_noise = 0.0f;         // robust standard deviation of the floor contrast
   std::vector<TapeRegion> regions;  // largest first
 };
 
@@ -39,6 +39,7 @@ struct TapeRegions {
 // is thresholded half-way between floor and tape (ISODATA) and its connected regions of at
 // least min_area_small_px pixels are returned.
 TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
-                              const std::vector<double>& bar_widths_small_px, int min_area_small_px);
+                              const std::vector<double>& bar_widths_small_px,
+                              int min_area_small_px);
 
 }  // namespace agv::perception

@@ -39,7 +39,8 @@ class BoundedQueue {
   bool push(T item, std::chrono::nanoseconds timeout = std::chrono::hours(24)) {
     std::unique_lock<std::mutex> lock(mutex_);
     if (policy_ == QueuePolicy::kBlock) {
-      const bool room = not_full_.wait_for(lock, timeout, [this] { return closed_ || items_.size() < capacity_; });
+      const bool room = not_full_.wait_for(lock, timeout,
+                                           [this] { return closed_ || items_.size() < capacity_; });
       if (!room || closed_) {
         ++stats_.rejected;
         return false;

@@ -70,9 +70,10 @@ class TruthTracker {
   double s_m_;
 };
 
-TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose, const control::TrackingError& truth,
-                  const std::optional<StampedMeasurement>& newest, const control::TrackerOutput& output,
-                  const BodyTwist& previous_command) {
+TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose,
+                  const control::TrackingError& truth,
+                  const std::optional<StampedMeasurement>& newest,
+                  const control::TrackerOutput& output, const BodyTwist& previous_command) {
   TraceRow row;
   row.t_s = t_s;
   row.pose = pose;
@@ -84,14 +85,16 @@ TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose, const contro
   }
   row.output = output;
   row.wheels_rad_s = control::mecanum_inverse(s.vehicle.mecanum, output.command);
-  row.violations = control::check_limits(output.command, previous_command, s.vehicle.limits, s.controller.ts_s);
+  row.violations =
+      control::check_limits(output.command, previous_command, s.vehicle.limits, s.controller.ts_s);
   return row;
 }
 
 }  // namespace
 
 std::unique_ptr<control::PathController> make_controller(const Scenario& scenario) {
-  if (scenario.controller.kind == "pid") return std::make_unique<control::PidController>(scenario.controller.pid);
+  if (scenario.controller.kind == "pid")
+    return std::make_unique<control::PidController>(scenario.controller.pid);
   return std::make_unique<control::FiniteStepController>(scenario.controller.finite_step);
 }
 
@@ -104,6 +107,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress) {
   Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
   TruthTracker truth_of(s.path, s.start_s_m);
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, QueuePolicy::kDropOldest);
+  const double setup_wall_s = seconds_since(wall_start);
   std::deque<StampedMeasurement> in_flight;  // taken, not yet delivered (latency)
 
   RunResult result;
@@ -128,7 +132,8 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress) {
     result.frames.push_back({stamped.frame_index, t, truth, stamped.measurement});
 
     in_flight.push_back(stamped);
-    while (!in_flight.empty() && in_flight.front().measurement.stamp_s + s.latency_frames * ts <= t + 1e-9) {
+    while (!in_flight.empty() &&
+           in_flight.front().measurement.stamp_s + s.latency_frames * ts <= t + 1e-9) {
       queue.push(in_flight.front());
       in_flight.pop_front();
     }
@@ -136,30 +141,35 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress) {
     if (arrived) newest = arrived;
 
     t0 = Clock::now();
-    const control::TrackerOutput output =
-        tracker.step(arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t);
+    const control::TrackerOutput output = tracker.step(
+        arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t);
     result.total_times.control_s += seconds_since(t0);
     result.rows.push_back(make_row(s, t, pose, truth, newest, output, previous_command));
     previous_command = output.command;
     plant.step(output.command, ts);
-    if (progress && (k % 10 == 0 || k + 1 == periods)) progress(static_cast<double>(k + 1) / periods);
+    if (progress && (k % 10 == 0 || k + 1 == periods))
+      progress(static_cast<double>(k + 1) / periods);
   }
   result.queue = queue.stats();
   result.wall_s = seconds_since(wall_start);
+  result.setup_wall_s = setup_wall_s;
   return result;
 }
 
 RunResult run_threaded(const Scenario& s, const Progress& progress) {
   // Built before the clock starts: their set-up (floor map, texture) is not part of the run.
+  const Clock::time_point setup_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
   const FrameRenderer renderer(camera, scene_of(s));
   const perception::LineEstimator estimator(camera, perception_options(s));
+  const double setup_wall_s = seconds_since(setup_start);
   const Clock::time_point wall_start = Clock::now();
   const double ts = s.controller.ts_s;
   const double frame_period_s = s.loop.camera_fps > 0.0 ? 1.0 / s.loop.camera_fps : ts;
   const int periods = static_cast<int>(std::floor(s.duration_s / ts + 1e-9)) + 1;
   auto wall_time_of = [&](double sim_s) {
-    return wall_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(sim_s / s.loop.time_scale));
+    return wall_start + std::chrono::duration_cast<Clock::duration>(
+                            std::chrono::duration<double>(sim_s / s.loop.time_scale));
   };
 
   // State shared by the two threads: the pose at the last control tick and the twist since.
@@ -203,8 +213,10 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
       // Extra transport latency, if configured, before the measurement enters the queue.
       in_flight.push_back(stamped);
       const double now_s = seconds_since(wall_start) * s.loop.time_scale;
-      while (!in_flight.empty() && in_flight.front().measurement.stamp_s + s.latency_frames * ts <= now_s + 1e-9) {
-        queue.push(in_flight.front(), std::chrono::milliseconds(static_cast<int>(1000 * ts / s.loop.time_scale)));
+      while (!in_flight.empty() &&
+             in_flight.front().measurement.stamp_s + s.latency_frames * ts <= now_s + 1e-9) {
+        queue.push(in_flight.front(),
+                   std::chrono::milliseconds(static_cast<int>(1000 * ts / s.loop.time_scale)));
         in_flight.pop_front();
       }
     }
@@ -218,7 +230,8 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   for (int k = 0; k < periods; ++k) {
     const double t = k * ts;
     std::this_thread::sleep_until(wall_time_of(t));
-    result.max_tick_lateness_s = std::max(result.max_tick_lateness_s, seconds_since(wall_start) - t / s.loop.time_scale);
+    result.max_tick_lateness_s =
+        std::max(result.max_tick_lateness_s, seconds_since(wall_start) - t / s.loop.time_scale);
     Pose2 pose;
     {
       std::lock_guard<std::mutex> lock(state_mutex);
@@ -230,8 +243,8 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
     const std::optional<StampedMeasurement> arrived = queue.pop_newest();
     if (arrived) newest = arrived;
     const Clock::time_point t0 = Clock::now();
-    const control::TrackerOutput output =
-        tracker.step(arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t);
+    const control::TrackerOutput output = tracker.step(
+        arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t);
     result.total_times.control_s += seconds_since(t0);
     {
       std::lock_guard<std::mutex> lock(state_mutex);
@@ -239,18 +252,21 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
     }
     result.rows.push_back(make_row(s, t, pose, truth, newest, output, previous_command));
     previous_command = output.command;
-    if (progress && (k % 10 == 0 || k + 1 == periods)) progress(static_cast<double>(k + 1) / periods);
+    if (progress && (k % 10 == 0 || k + 1 == periods))
+      progress(static_cast<double>(k + 1) / periods);
   }
   stop.store(true);
   queue.close();
   camera_thread.join();
   result.queue = queue.stats();
-  result.wall_s = seconds_since(wall_start);
+  result.wall_s = seconds_since(wall_start) + setup_wall_s;
+  result.setup_wall_s = setup_wall_s;
   return result;
 }
 
 RunResult run_scenario(const Scenario& scenario, const Progress& progress) {
-  return scenario.loop.mode == "threaded" ? run_threaded(scenario, progress) : run_lockstep(scenario, progress);
+  return scenario.loop.mode == "threaded" ? run_threaded(scenario, progress)
+                                          : run_lockstep(scenario, progress);
 }
 
 }  // namespace agv::pipeline

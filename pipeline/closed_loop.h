@@ -26,14 +26,14 @@ struct StampedMeasurement {
 // One control period of a run (one row of trace.csv).
 struct TraceRow {
   double t_s = 0.0;
-  Pose2 pose;                             // true pose at t_s
-  control::TrackingError truth;           // true errors at t_s
-  bool has_measurement = false;           // the controller had a measurement to act on
-  LineMeasurement measurement;            // the newest measurement it had
+  Pose2 pose;                    // true pose at t_s
+  control::TrackingError truth;  // true errors at t_s
+  bool has_measurement = false;  // the controller had a measurement to act on
+  LineMeasurement measurement;   // the newest measurement it had
   double measurement_age_s = 0.0;
-  control::TrackerOutput output;          // command, flags, what the controller acted on
+  control::TrackerOutput output;  // command, flags, what the controller acted on
   control::MecanumWheelSpeeds wheels_rad_s = control::MecanumWheelSpeeds::Zero();
-  std::uint32_t violations = 0;           // control::LimitViolation bits of the command
+  std::uint32_t violations = 0;  // control::LimitViolation bits of the command
 };
 
 // Perception of one frame against its ground truth.
@@ -55,8 +55,9 @@ struct RunResult {
   std::vector<TraceRow> rows;
   std::vector<FrameRecord> frames;
   QueueStats queue;
-  StageTimes total_times;   // summed over the run, seconds (lockstep; threaded: per thread)
+  StageTimes total_times;  // summed over the run, seconds (lockstep; threaded: per thread)
   double wall_s = 0.0;
+  double setup_wall_s = 0.0;         // of wall_s: building renderer, floor maps and estimator
   double max_tick_lateness_s = 0.0;  // threaded: how late the control thread ran at worst
 };
 

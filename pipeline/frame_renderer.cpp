@@ -14,8 +14,8 @@
 namespace agv::pipeline {
 namespace {
 
-constexpr int kNoiseMargin = 64;        // random offsets into the noise bank per frame
-constexpr float kNoiseScale = 25.0f;    // int8 noise bank: standard normal x 25, clipped at 5 sigma
+constexpr int kNoiseMargin = 64;      // random offsets into the noise bank per frame
+constexpr float kNoiseScale = 25.0f;  // int8 noise bank: standard normal x 25, clipped at 5 sigma
 constexpr double kTexel_m = 0.0005;
 constexpr int kMaxBlurSamples = 12;
 
@@ -40,22 +40,25 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
   gain_.create(h, w, CV_32F);
   const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
   const double corner_sq = cx * cx + cy * cy;
-  const double gx = std::cos(fx.illumination_direction_rad), gy = std::sin(fx.illumination_direction_rad);
+  const double gx = std::cos(fx.illumination_direction_rad),
+               gy = std::sin(fx.illumination_direction_rad);
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
       const double du = u - cx, dv = v - cy;
       const double vignette = 1.0 - fx.vignetting * (du * du + dv * dv) / corner_sq;
       const double gradient = 1.0 + fx.illumination_gradient * (du / w * gx + dv / h * gy);
       const bool sees_floor = std::isfinite(floor_map_.x_m().at<float>(v, u));
-      gain_.at<float>(v, u) = sees_floor ? static_cast<float>(fx.brightness * vignette * gradient) : 0.0f;
+      gain_.at<float>(v, u) =
+          sees_floor ? static_cast<float>(fx.brightness * vignette * gradient) : 0.0f;
     }
   }
-  // Anti-aliasing: a pixel's coverage of the tape ramps over its footprint and the tape's soft edge.
+  // Anti-aliasing: a pixel's coverage of the tape ramps over its footprint and the tape's soft
+  // edge.
   for (const TapeStrip& strip : scene.tapes) {
     cv::Mat inverse_ramp(h, w, CV_32F);
     const float softness_sq = static_cast<float>(strip.edge_softness_m * strip.edge_softness_m);
     for (int v = 0; v < h; ++v) {
-        const float* footprint = floor_map_.footprint_m().ptr<float>(v);
+      const float* footprint = floor_map_.footprint_m().ptr<float>(v);
       float* out = inverse_ramp.ptr<float>(v);
       for (int u = 0; u < w; ++u) {
         const float f = std::isfinite(footprint[u]) ? footprint[u] : 1.0f;
@@ -91,13 +94,14 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   // Sub-exposure poses centred on `pose`. The tape edges (what perception measures) are
   // integrated with poses at most 1 px of image motion apart; the floor texture, whose finest
   // features span several pixels, with poses at most 3 px apart.
-  const double speed_m_s = std::hypot(twist.vx_m_s, twist.vy_m_s) +
-                           std::abs(twist.wz_rad_s) * (floor_map_.view_centre_m().norm() +
-                                                       floor_map_.view_radius_m());
+  const double speed_m_s =
+      std::hypot(twist.vx_m_s, twist.vy_m_s) +
+      std::abs(twist.wz_rad_s) * (floor_map_.view_centre_m().norm() + floor_map_.view_radius_m());
   const double blur_px =
       speed_m_s * fx.exposure_s / std::max(1e-6, floor_map_.typical_footprint_m());
   const int tape_samples = std::clamp(static_cast<int>(std::ceil(blur_px)), 1, kMaxBlurSamples);
-  const int texture_samples = std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
+  const int texture_samples =
+      std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
   struct SubPose {
     float c, s, tx, ty;  // vehicle -> world
     std::vector<LocalPiece> pieces;
@@ -115,8 +119,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       const Eigen::Vector2d view_world = p.transform(floor_map_.view_centre_m());
       const Pose2 inverse = p.inverse();
       for (const WorldPiece& piece : pieces_) {
-        const double reach_m = floor_map_.view_radius_m() + piece.bound_radius_m +
-                               scene_.tapes[piece.strip].width_m;
+        const double reach_m =
+            floor_map_.view_radius_m() + piece.bound_radius_m + scene_.tapes[piece.strip].width_m;
         if ((piece.bound_centre - view_world).norm() > reach_m) continue;
         poses[k].pieces.push_back(to_local(piece, inverse));
       }
@@ -147,7 +151,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       const float* ys = texture_y_m_.ptr<float>(v);
       float* out = texture_small.ptr<float>(v);
       for (int u = 0; u < texture_small.cols; ++u) {
-        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx, sp.s * xs[u] + sp.c * ys[u] + sp.ty);
+        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx,
+                                  sp.s * xs[u] + sp.c * ys[u] + sp.ty);
       }
     }
   }
@@ -189,7 +194,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
           piece_distances(piece, xs, ys, w, distance.data());
           for (int u = 0; u < w; ++u) {
             // min/max rather than std::clamp: the latter's branches keep this from vectorising.
-            const float a = std::min(std::max(0.5f + (half_width - distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
+            const float a =
+                std::min(std::max(0.5f + (half_width - distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
             coverage[u] = std::max(coverage[u], a);
           }
         }
@@ -201,10 +207,10 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       const float tape_b = static_cast<float>(scene_.tapes[i].color_bgr[0]);
       const float tape_g = static_cast<float>(scene_.tapes[i].color_bgr[1]);
       const float tape_r = static_cast<float>(scene_.tapes[i].color_bgr[2]);
-      const float tape_contrast = static_cast<float>(scene_.tapes[i].texture_contrast) /
-                                  static_cast<float>(scene_.floor.texture_contrast > 0.0
-                                                         ? scene_.floor.texture_contrast
-                                                         : 1.0);
+      const float tape_contrast =
+          static_cast<float>(scene_.tapes[i].texture_contrast) /
+          static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast
+                                                                 : 1.0);
       const float inverse_samples = 1.0f / tape_samples;
       for (int u = 0; u < w; ++u) {
         const float a = alpha[i][u] * inverse_samples;
@@ -225,7 +231,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       unsigned char* out = planes[ch].ptr<unsigned char>(v);
       const float* c = colour[ch];
       for (int u = 0; u < w; ++u) {
-        const float value = std::min(std::max(c[u] * gain[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
+        const float value =
+            std::min(std::max(c[u] * gain[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
         out[u] = static_cast<unsigned char>(static_cast<int>(value));
       }
     }

@@ -2,8 +2,8 @@
 
 #include <cstdint>
 #include <memory>
-#include <vector>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "common/body_twist.h"
 #include "common/pose2.h"
@@ -37,10 +37,10 @@ class FrameRenderer {
   Scene scene_;
   perception::FloorMap floor_map_;
   FloorTexture texture_;
-  cv::Mat floor_x_m_, floor_y_m_;  // the floor map with 0 where no floor is seen
+  cv::Mat floor_x_m_, floor_y_m_;      // the floor map with 0 where no floor is seen
   cv::Mat texture_x_m_, texture_y_m_;  // the same on the half-resolution texture grid
-  cv::Mat gain_;          // CV_32F: vignetting x illumination gradient x brightness
-  cv::Mat noise_bank_;    // CV_8S: standard normal samples x kNoiseScale
+  cv::Mat gain_;                       // CV_32F: vignetting x illumination gradient x brightness
+  cv::Mat noise_bank_;                 // CV_8S: standard normal samples x kNoiseScale
   std::vector<WorldPiece> pieces_;
   std::vector<cv::Mat> inverse_ramp_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)

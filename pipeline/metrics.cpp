@@ -8,7 +8,8 @@ namespace {
 
 // Time at which |e| falls back to `band` between samples i and i + 1 (e(i+1) is inside); t(i)
 // when e(i) is inside already.
-double reentry_time(const std::vector<double>& t, const std::vector<double>& e, size_t i, double band) {
+double reentry_time(const std::vector<double>& t, const std::vector<double>& e, size_t i,
+                    double band) {
   const double a = std::abs(e[i]), b = std::abs(e[i + 1]);
   if (a <= band) return t[i];
   if (a == b) return t[i + 1];
@@ -23,10 +24,13 @@ nlohmann::json optional_json(const std::optional<double>& value) {
 }  // namespace
 
 std::optional<double> settle_time(const std::vector<double>& t, const std::vector<double>& e_d,
-                                  const std::vector<double>& e_theta, double band_d, double band_theta) {
+                                  const std::vector<double>& e_theta, double band_d,
+                                  double band_theta) {
   const size_t n = t.size();
   if (n == 0) return std::nullopt;
-  auto outside = [&](size_t i) { return std::abs(e_d[i]) > band_d || std::abs(e_theta[i]) > band_theta; };
+  auto outside = [&](size_t i) {
+    return std::abs(e_d[i]) > band_d || std::abs(e_theta[i]) > band_theta;
+  };
   if (outside(n - 1)) return std::nullopt;
   size_t last_outside = n;
   for (size_t i = n; i-- > 0;) {
@@ -36,7 +40,8 @@ std::optional<double> settle_time(const std::vector<double>& t, const std::vecto
     }
   }
   if (last_outside == n) return 0.0;
-  return std::max(reentry_time(t, e_d, last_outside, band_d), reentry_time(t, e_theta, last_outside, band_theta));
+  return std::max(reentry_time(t, e_d, last_outside, band_d),
+                  reentry_time(t, e_theta, last_outside, band_theta));
 }
 
 double overshoot(const std::vector<double>& e) {
@@ -63,7 +68,8 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
     e_theta.push_back(row.truth.e_theta_rad);
     m.max_abs_e_d_m = std::max(m.max_abs_e_d_m, std::abs(row.truth.e_d_m));
     m.max_abs_e_theta_rad = std::max(m.max_abs_e_theta_rad, std::abs(row.truth.e_theta_rad));
-    m.max_abs_v_lateral_m_s = std::max(m.max_abs_v_lateral_m_s, std::abs(row.output.command.vy_m_s));
+    m.max_abs_v_lateral_m_s =
+        std::max(m.max_abs_v_lateral_m_s, std::abs(row.output.command.vy_m_s));
     if (row.violations != 0) ++m.limit_violations;
   }
   // Acceleration between consecutive commands; the vehicle starts at path speed, straight on.
@@ -71,12 +77,16 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
   BodyTwist previous{scenario.path_speed_m_s, 0.0, 0.0};
   for (const TraceRow& row : run.rows) {
     const BodyTwist& c = row.output.command;
-    m.max_abs_accel_m_s2 = std::max(m.max_abs_accel_m_s2, std::hypot(c.vx_m_s - previous.vx_m_s, c.vy_m_s - previous.vy_m_s) / ts);
+    m.max_abs_accel_m_s2 =
+        std::max(m.max_abs_accel_m_s2,
+                 std::hypot(c.vx_m_s - previous.vx_m_s, c.vy_m_s - previous.vy_m_s) / ts);
     previous = c;
   }
-  m.settle_time_s = settle_time(t, e_d, e_theta, scenario.metrics.settle_band_e_d_m, scenario.metrics.settle_band_e_theta_rad);
+  m.settle_time_s = settle_time(t, e_d, e_theta, scenario.metrics.settle_band_e_d_m,
+                                scenario.metrics.settle_band_e_theta_rad);
   if (m.settle_time_s) {
-    const size_t first = static_cast<size_t>(std::lower_bound(t.begin(), t.end(), *m.settle_time_s) - t.begin());
+    const size_t first =
+        static_cast<size_t>(std::lower_bound(t.begin(), t.end(), *m.settle_time_s) - t.begin());
     m.rms_e_d_m = rms_from(e_d, first);
     m.rms_e_theta_rad = rms_from(e_theta, first);
   }
@@ -115,7 +125,8 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["perception_rms_e_theta_rad"] = optional_json(m.perception_rms_e_theta_rad);
   j["coverage_area_m2"] = nullptr;  // needs wheel tracks on the centre line (dual steering wheel)
 
-  int saturated = 0, infeasible = 0, stopping = 0, holding = 0, horizon_sum = 0, horizon_count = 0, horizon_max = 0;
+  int saturated = 0, infeasible = 0, stopping = 0, holding = 0, horizon_sum = 0, horizon_count = 0,
+      horizon_max = 0;
   double max_age_s = 0.0;
   for (const TraceRow& row : run.rows) {
     if (row.output.flags & control::kSaturated) ++saturated;
@@ -147,11 +158,13 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["horizon_steps_mean"] = horizon_count ? static_cast<double>(horizon_sum) / horizon_count : 0.0;
   j["horizon_steps_max"] = horizon_max;
   j["max_measurement_age_s"] = max_age_s;
-  j["queue"] = {{"pushed", run.queue.pushed}, {"popped", run.queue.popped}, {"dropped", run.queue.dropped},
-                {"superseded", run.queue.superseded}, {"rejected", run.queue.rejected}, {"max_depth", run.queue.max_depth}};
+  j["queue"] = {{"pushed", run.queue.pushed},     {"popped", run.queue.popped},
+                {"dropped", run.queue.dropped},   {"superseded", run.queue.superseded},
+                {"rejected", run.queue.rejected}, {"max_depth", run.queue.max_depth}};
   const double frames = std::max(1, m.frames);
   const double periods = std::max<size_t>(1, run.rows.size());
   j["timing"] = {{"wall_s", run.wall_s},
+                 {"setup_wall_s", run.setup_wall_s},
                  {"render_ms_mean", 1e3 * run.total_times.render_s / frames},
                  {"perceive_ms_mean", 1e3 * run.total_times.perceive_s / frames},
                  {"control_ms_mean", 1e3 * run.total_times.control_s / periods},

@@ -16,8 +16,8 @@ struct RunMetrics {
   std::optional<double> settle_time_s;
   double max_abs_e_d_m = 0.0;
   double max_abs_e_theta_rad = 0.0;
-  std::optional<double> rms_e_d_m;          // after settling
-  std::optional<double> rms_e_theta_rad;    // after settling
+  std::optional<double> rms_e_d_m;        // after settling
+  std::optional<double> rms_e_theta_rad;  // after settling
   double overshoot_e_d_m = 0.0;
   double max_abs_v_lateral_m_s = 0.0;
   double max_abs_accel_m_s2 = 0.0;
@@ -45,6 +45,7 @@ std::optional<double> rms_from(const std::vector<double>& values, size_t first);
 RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario);
 
 // summary.json: the metric keys of DESIGN.md plus what the run was and how it went.
-nlohmann::json summary_json(const RunMetrics& metrics, const RunResult& run, const Scenario& scenario);
+nlohmann::json summary_json(const RunMetrics& metrics, const RunResult& run,
+                            const Scenario& scenario);
 
 }  // namespace agv::pipeline

@@ -32,7 +32,7 @@ struct ControllerConfig {
 };
 
 struct MetricsConfig {
-  double settle_band_e_d_m = 0.002;        // the paper's 2 mm
+  double settle_band_e_d_m = 0.002;                     // the paper's 2 mm
   double settle_band_e_theta_rad = 0.0349065850398866;  // the paper's 2 deg
 };
 
@@ -40,27 +40,27 @@ struct LoopConfig {
   std::string mode = "lockstep";  // lockstep | threaded
   std::size_t queue_capacity = 4;
   QueuePolicy queue_policy = QueuePolicy::kDropOldest;
-  double time_scale = 1.0;         // threaded: simulated seconds per wall-clock second
-  double camera_fps = 0.0;         // threaded: frames per second (0: one frame per period)
+  double time_scale = 1.0;  // threaded: simulated seconds per wall-clock second
+  double camera_fps = 0.0;  // threaded: frames per second (0: one frame per period)
 };
 
 // Everything one simulated run needs, read from a scenario file (see the default scenario,
 // tools/config/default_scenario.yaml, for every key with its meaning).
 struct Scenario {
-  std::string source_name;         // the file, or "built-in default scenario"
+  std::string source_name;  // the file, or "built-in default scenario"
   double duration_s = 5.0;
   std::uint64_t seed = 1;
   double path_speed_m_s = 0.3;
   int latency_frames = 1;
-  double start_s_m = 0.5;          // where along the path the vehicle starts
+  double start_s_m = 0.5;                           // where along the path the vehicle starts
   double initial_e_theta_rad = 0.0872664625997165;  // 5 deg
   double initial_e_d_m = 0.010;
   control::Path path;
-  TapeStrip tape;                  // its path is `path`
+  TapeStrip tape;  // its path is `path`
   FloorStyle floor;
   ImageEffects effects;
-  bool tape_color_hint = true;     // perception is told the tape colour
-  std::string camera_name;         // where the camera came from
+  bool tape_color_hint = true;  // perception is told the tape colour
+  std::string camera_name;      // where the camera came from
   perception::CameraFile camera;
   VehicleConfig vehicle;
   ControllerConfig controller;

@@ -18,7 +18,8 @@ cv::Vec3d colour(const std::vector<double>& bgr) { return {bgr[0], bgr[1], bgr[2
 std::vector<double> values(const cv::Vec3d& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
 
 control::Path read_path(YamlReader& in) {
-  const Pose2 start{in.number("path.start.x_m", 0.0, -1e4, 1e4), in.number("path.start.y_m", 0.0, -1e4, 1e4),
+  const Pose2 start{in.number("path.start.x_m", 0.0, -1e4, 1e4),
+                    in.number("path.start.y_m", 0.0, -1e4, 1e4),
                     in.number("path.start.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
   control::Path path = control::Path::starting_at(start);
   const size_t count = in.sequence_size("path.segments");
@@ -31,7 +32,9 @@ control::Path read_path(YamlReader& in) {
     } else {
       const double radius_m = in.positive(key + "radius_m", 0.5, 1e4);
       const double angle_rad = in.number(key + "angle_rad", kPi / 2, -2 * kPi, 2 * kPi);
-      if (angle_rad == 0.0) throw InputError(in.origin(key + "angle_rad") + ": key '" + key + "angle_rad': must not be 0");
+      if (angle_rad == 0.0)
+        throw InputError(in.origin(key + "angle_rad") + ": key '" + key +
+                         "angle_rad': must not be 0");
       path.add_arc(radius_m, angle_rad);
     }
   }
@@ -68,7 +71,8 @@ perception::CameraFile read_camera(YamlReader& in, const ScenarioText& source, s
 
 ScenarioText read_scenario_file(const std::string& path) {
   std::error_code error;
-  if (std::filesystem::is_directory(path, error)) throw InputError(path + ": is a directory, expected a scenario YAML file");
+  if (std::filesystem::is_directory(path, error))
+    throw InputError(path + ": is a directory, expected a scenario YAML file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the scenario file");
   std::stringstream text;
@@ -95,7 +99,8 @@ Scenario load_scenario(const ScenarioText& source,
   try {
     root = YAML::Load(source.text);
   } catch (const YAML::Exception& e) {
-    throw InputError(source.name + ": not valid YAML at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+    throw InputError(source.name + ": not valid YAML at line " + std::to_string(e.mark.line + 1) +
+                     ": " + e.msg);
   }
   YamlReader in(root, source.name);
   for (const auto& [key, value] : overrides) in.set_override(key, value);
@@ -106,7 +111,8 @@ Scenario load_scenario(const ScenarioText& source,
   s.seed = static_cast<std::uint64_t>(in.integer("seed", 1, 0, 2147483647));
   s.path_speed_m_s = in.number("path_speed_m_s", s.path_speed_m_s, 0.0, 5.0);
   s.latency_frames = in.integer("latency_frames", s.latency_frames, 0, 50);
-  s.initial_e_theta_rad = in.number("initial_error.e_theta_rad", s.initial_e_theta_rad, -kPi / 2, kPi / 2);
+  s.initial_e_theta_rad =
+      in.number("initial_error.e_theta_rad", s.initial_e_theta_rad, -kPi / 2, kPi / 2);
   s.initial_e_d_m = in.number("initial_error.e_d_m", s.initial_e_d_m, -0.5, 0.5);
   s.path = read_path(in);
   s.start_s_m = in.number("start_s_m", s.start_s_m, 0.0, s.path.length_m());
@@ -117,53 +123,66 @@ Scenario load_scenario(const ScenarioText& source,
   tape.edge_softness_m = in.number("tape.edge_softness_m", tape.edge_softness_m, 0.0, 0.01);
   tape.texture_contrast = in.number("tape.texture_contrast", tape.texture_contrast, 0.0, 1.0);
   tape.path = s.path;
-  s.floor.color_bgr = colour(in.numbers("floor.color_bgr", values(s.floor.color_bgr), 3, 0.0, 255.0));
-  s.floor.texture_contrast = in.number("floor.texture_contrast", s.floor.texture_contrast, 0.0, 1.0);
-  s.floor.texture_feature_m = in.number("floor.texture_feature_m", s.floor.texture_feature_m, 0.0005, 0.05);
+  s.floor.color_bgr =
+      colour(in.numbers("floor.color_bgr", values(s.floor.color_bgr), 3, 0.0, 255.0));
+  s.floor.texture_contrast =
+      in.number("floor.texture_contrast", s.floor.texture_contrast, 0.0, 1.0);
+  s.floor.texture_feature_m =
+      in.number("floor.texture_feature_m", s.floor.texture_feature_m, 0.0005, 0.05);
   ImageEffects& fx = s.effects;
   fx.noise_sigma = in.number("image.noise_sigma", fx.noise_sigma, 0.0, 100.0);
   fx.exposure_s = in.number("image.exposure_s", fx.exposure_s, 0.0, 0.1);
   fx.vignetting = in.number("image.vignetting", fx.vignetting, 0.0, 0.95);
-  fx.illumination_gradient = in.number("image.illumination_gradient", fx.illumination_gradient, 0.0, 1.5);
-  fx.illumination_direction_rad = in.number("image.illumination_direction_rad", fx.illumination_direction_rad, -2 * kPi, 2 * kPi);
+  fx.illumination_gradient =
+      in.number("image.illumination_gradient", fx.illumination_gradient, 0.0, 1.5);
+  fx.illumination_direction_rad = in.number("image.illumination_direction_rad",
+                                            fx.illumination_direction_rad, -2 * kPi, 2 * kPi);
   fx.brightness = in.number("image.brightness", fx.brightness, 0.05, 4.0);
   s.tape_color_hint = in.boolean("perception.use_tape_color_hint", s.tape_color_hint);
 
   s.camera = read_camera(in, source, &s.camera_name);
   if (!s.camera.mount) {
-    throw InputError(s.camera_name + ": field 'mount_xyz_m': missing; a simulation needs the camera's mount "
-                                     "pose (run 'agv calibrate mount', or add mount_xyz_m and mount_rpy_rad)");
+    throw InputError(s.camera_name +
+                     ": field 'mount_xyz_m': missing; a simulation needs the camera's mount "
+                     "pose (run 'agv calibrate mount', or add mount_xyz_m and mount_rpy_rad)");
   }
 
   VehicleConfig& v = s.vehicle;
   v.kind = in.choice("vehicle.kind", v.kind, {"mecanum"});
   v.mecanum.wheel_radius_m = in.positive("vehicle.wheel_radius_m", v.mecanum.wheel_radius_m, 1.0);
-  v.mecanum.half_wheelbase_m = in.positive("vehicle.half_wheelbase_m", v.mecanum.half_wheelbase_m, 5.0);
+  v.mecanum.half_wheelbase_m =
+      in.positive("vehicle.half_wheelbase_m", v.mecanum.half_wheelbase_m, 5.0);
   v.mecanum.half_track_m = in.positive("vehicle.half_track_m", v.mecanum.half_track_m, 5.0);
-  v.limits.v_forward_max_m_s = in.positive("vehicle.v_forward_max_m_s", v.limits.v_forward_max_m_s, 10.0);
-  v.limits.v_lateral_max_m_s = in.positive("vehicle.v_lateral_max_m_s", v.limits.v_lateral_max_m_s, 10.0);
+  v.limits.v_forward_max_m_s =
+      in.positive("vehicle.v_forward_max_m_s", v.limits.v_forward_max_m_s, 10.0);
+  v.limits.v_lateral_max_m_s =
+      in.positive("vehicle.v_lateral_max_m_s", v.limits.v_lateral_max_m_s, 10.0);
   v.limits.a_max_m_s2 = in.positive("vehicle.a_max_m_s2", v.limits.a_max_m_s2, 50.0);
   v.limits.w_max_rad_s = in.positive("vehicle.w_max_rad_s", v.limits.w_max_rad_s, 20.0);
-  v.limits.alpha_max_rad_s2 = in.positive("vehicle.alpha_max_rad_s2", v.limits.alpha_max_rad_s2, 200.0);
+  v.limits.alpha_max_rad_s2 =
+      in.positive("vehicle.alpha_max_rad_s2", v.limits.alpha_max_rad_s2, 200.0);
   v.actuator_lag_s = in.number("vehicle.actuator_lag_s", v.actuator_lag_s, 0.0, 2.0);
   if (s.path_speed_m_s > v.limits.v_forward_max_m_s) {
-    throw InputError(in.origin("path_speed_m_s") + ": key 'path_speed_m_s': " + std::to_string(s.path_speed_m_s) +
-                     " m/s is above vehicle.v_forward_max_m_s");
+    throw InputError(in.origin("path_speed_m_s") + ": key 'path_speed_m_s': " +
+                     std::to_string(s.path_speed_m_s) + " m/s is above vehicle.v_forward_max_m_s");
   }
 
   ControllerConfig& c = s.controller;
   c.kind = in.choice("controller.kind", c.kind, {"finite_step", "pid"});
   c.ts_s = in.number("controller.ts_s", c.ts_s, 0.001, 1.0);
   c.finite_step.a_max_m_s2 = in.positive("controller.a_max_m_s2", c.finite_step.a_max_m_s2, 50.0);
-  c.finite_step.v_x_max_m_s = in.positive("controller.v_x_max_m_s", c.finite_step.v_x_max_m_s, 10.0);
-  c.finite_step.mode = in.choice("controller.horizon", "shrinking", {"shrinking", "fixed"}) == "fixed"
-                           ? control::HorizonMode::kFixed
-                           : control::HorizonMode::kShrinking;
+  c.finite_step.v_x_max_m_s =
+      in.positive("controller.v_x_max_m_s", c.finite_step.v_x_max_m_s, 10.0);
+  c.finite_step.mode =
+      in.choice("controller.horizon", "shrinking", {"shrinking", "fixed"}) == "fixed"
+          ? control::HorizonMode::kFixed
+          : control::HorizonMode::kShrinking;
   c.finite_step.n_fixed = in.integer("controller.n_fixed", c.finite_step.n_fixed, 1, 1000);
   c.finite_step.n_min = in.integer("controller.n_min", c.finite_step.n_min, 1, 1000);
   c.finite_step.n_max = in.integer("controller.n_max", c.finite_step.n_max, 1, 1000);
   if (c.finite_step.n_min > c.finite_step.n_max) {
-    throw InputError(in.origin("controller.n_min") + ": key 'controller.n_min': must not exceed controller.n_max");
+    throw InputError(in.origin("controller.n_min") +
+                     ": key 'controller.n_min': must not exceed controller.n_max");
   }
   c.line_lost_hold_s = in.number("controller.line_lost_hold_s", c.line_lost_hold_s, 0.0, 60.0);
   c.latency_compensation = in.boolean("controller.latency_compensation", c.latency_compensation);
@@ -174,15 +193,19 @@ Scenario load_scenario(const ScenarioText& source,
   c.pid.ki_theta_1_s2 = in.number("controller.pid.ki_theta_1_s2", c.pid.ki_theta_1_s2, 0.0, 100.0);
   c.pid.kd_theta = in.number("controller.pid.kd_theta", c.pid.kd_theta, 0.0, 100.0);
 
-  s.metrics.settle_band_e_d_m = in.positive("metrics.settle_band_e_d_m", s.metrics.settle_band_e_d_m, 1.0);
-  s.metrics.settle_band_e_theta_rad = in.positive("metrics.settle_band_e_theta_rad", s.metrics.settle_band_e_theta_rad, 1.0);
+  s.metrics.settle_band_e_d_m =
+      in.positive("metrics.settle_band_e_d_m", s.metrics.settle_band_e_d_m, 1.0);
+  s.metrics.settle_band_e_theta_rad =
+      in.positive("metrics.settle_band_e_theta_rad", s.metrics.settle_band_e_theta_rad, 1.0);
 
   LoopConfig& loop = s.loop;
   loop.mode = in.choice("loop.mode", loop.mode, {"lockstep", "threaded"});
-  loop.queue_capacity = static_cast<std::size_t>(in.integer("loop.queue_capacity", static_cast<int>(loop.queue_capacity), 1, 10000));
-  loop.queue_policy = in.choice("loop.queue_policy", "drop_oldest", {"drop_oldest", "block"}) == "block"
-                          ? QueuePolicy::kBlock
-                          : QueuePolicy::kDropOldest;
+  loop.queue_capacity = static_cast<std::size_t>(
+      in.integer("loop.queue_capacity", static_cast<int>(loop.queue_capacity), 1, 10000));
+  loop.queue_policy =
+      in.choice("loop.queue_policy", "drop_oldest", {"drop_oldest", "block"}) == "block"
+          ? QueuePolicy::kBlock
+          : QueuePolicy::kDropOldest;
   loop.time_scale = in.positive("loop.time_scale", loop.time_scale, 1000.0);
   loop.camera_fps = in.number("loop.camera_fps", loop.camera_fps, 0.0, 10000.0);
 

@@ -13,8 +13,8 @@ namespace agv::pipeline {
 // against base_dir, or, for a built-in scenario, first against `builtin_files` (name -> text).
 struct ScenarioText {
   std::string text;
-  std::string name;       // for messages
-  std::string base_dir;   // directory of the file ("" for built-in)
+  std::string name;      // for messages
+  std::string base_dir;  // directory of the file ("" for built-in)
   std::map<std::string, std::string> builtin_files;
 };
 

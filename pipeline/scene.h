@@ -25,12 +25,12 @@ struct FloorStyle {
 
 // Image effects of the camera; each can be switched off by setting it to 0.
 struct ImageEffects {
-  double noise_sigma = 2.0;              // Gaussian sensor noise, grey levels (of 255)
-  double exposure_s = 0.002;             // motion blur: poses integrated over this exposure
-  double vignetting = 0.20;              // fraction of brightness lost at the image corners
-  double illumination_gradient = 0.15;   // brightness change across the image, fraction
+  double noise_sigma = 2.0;                 // Gaussian sensor noise, grey levels (of 255)
+  double exposure_s = 0.002;                // motion blur: poses integrated over this exposure
+  double vignetting = 0.20;                 // fraction of brightness lost at the image corners
+  double illumination_gradient = 0.15;      // brightness change across the image, fraction
   double illumination_direction_rad = 0.6;  // direction of that change in the image
-  double brightness = 1.0;               // overall exposure gain
+  double brightness = 1.0;                  // overall exposure gain
 };
 
 struct Scene {

@@ -18,7 +18,8 @@ std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes) {
     for (const control::PathSegment& segment : segments) {
       const bool is_arc = std::abs(segment.curvature_1_m) > 1e-12;
       const double sweep_rad = std::abs(segment.curvature_1_m) * segment.length_m;
-      const int parts = is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
+      const int parts =
+          is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
       for (int p = 0; p < parts; ++p) {
         const double s0 = segment.length_m * p / parts, s1 = segment.length_m * (p + 1) / parts;
         WorldPiece piece;
@@ -62,7 +63,8 @@ LocalPiece to_local(const WorldPiece& w, const Pose2& vehicle_inverse) {
   l.flat_start = w.flat_start;
   l.flat_end = w.flat_end;
   if (!w.is_arc) {
-    const Eigen::Vector2d t = vehicle_inverse.rotate({std::cos(w.heading_rad), std::sin(w.heading_rad)});
+    const Eigen::Vector2d t =
+        vehicle_inverse.rotate({std::cos(w.heading_rad), std::sin(w.heading_rad)});
     l.tx = static_cast<float>(t.x());
     l.ty = static_cast<float>(t.y());
     l.length = static_cast<float>(w.length_m);
@@ -115,7 +117,8 @@ void piece_distances(const LocalPiece& piece, const float* xs, const float* ys, 
     const float ex = xs[u] - bx, ey = ys[u] - by;
     const float to_start = std::sqrt(sx * sx + sy * sy) + start_weight;
     const float to_end = std::sqrt(ex * ex + ey * ey) + end_weight;
-    distance[u] = ((after_start >= 0.0f) & (before_end >= 0.0f)) ? on_arc : std::min(to_start, to_end);
+    distance[u] =
+        ((after_start >= 0.0f) & (before_end >= 0.0f)) ? on_arc : std::min(to_start, to_end);
   }
 }
 

@@ -20,8 +20,8 @@ struct WorldPiece {
   double heading_rad = 0.0;  // lines: direction
   double length_m = 0.0;
   double radius_m = 0.0;
-  double turn_sign = 1.0;    // arcs: +1 counter-clockwise (left turn)
-  bool flat_start = false;   // the strip starts here: cut square, not rounded
+  double turn_sign = 1.0;   // arcs: +1 counter-clockwise (left turn)
+  bool flat_start = false;  // the strip starts here: cut square, not rounded
   bool flat_end = false;
   Eigen::Vector2d bound_centre = Eigen::Vector2d::Zero();
   double bound_radius_m = 0.0;
@@ -31,10 +31,10 @@ struct WorldPiece {
 struct LocalPiece {
   int strip;
   bool is_arc;
-  float ax, ay, bx, by;        // start and end points
-  float tx, ty, length;        // lines: unit direction and length
-  float cx, cy, radius;        // arcs: centre and radius
-  float r0x, r0y, r1x, r1y;    // arcs: unit radials to start and end
+  float ax, ay, bx, by;      // start and end points
+  float tx, ty, length;      // lines: unit direction and length
+  float cx, cy, radius;      // arcs: centre and radius
+  float r0x, r0y, r1x, r1y;  // arcs: unit radials to start and end
   float turn_sign;
   bool flat_start, flat_end;
 };

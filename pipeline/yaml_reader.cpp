@@ -51,7 +51,8 @@ std::string generic(const std::string& key) {
 YamlReader::YamlReader(YAML::Node root, std::string source_name)
     : root_(root), source_(std::move(source_name)) {
   if (!root_ || root_.IsNull()) root_ = YAML::Node(YAML::NodeType::Map);
-  if (!root_.IsMap()) throw InputError(source_ + ": expected a YAML mapping of keys at the top level");
+  if (!root_.IsMap())
+    throw InputError(source_ + ": expected a YAML mapping of keys at the top level");
 }
 
 std::string YamlReader::origin(const std::string& key) const {
@@ -86,10 +87,12 @@ void YamlReader::set_override(const std::string& dotted_key, const std::string& 
     YAML::Node child;
     if (parent.IsSequence() && is_index(parts[i])) {
       const size_t index = std::stoul(parts[i]);
-      if (index >= parent.size()) throw InputError(option + ": index " + parts[i] + " is past the end of the sequence");
+      if (index >= parent.size())
+        throw InputError(option + ": index " + parts[i] + " is past the end of the sequence");
       child = parent[index];
     } else {
-      if (!parent.IsMap() && !parent.IsNull()) throw InputError(option + ": '" + parts[i] + "' is not a group of keys");
+      if (!parent.IsMap() && !parent.IsNull())
+        throw InputError(option + ": '" + parts[i] + "' is not a group of keys");
       child = parent[parts[i]];
       if (!child.IsDefined() || child.IsNull()) {
         parent[parts[i]] = YAML::Node(YAML::NodeType::Map);
@@ -143,8 +146,8 @@ double YamlReader::number(const std::string& key, double fallback, double min, d
   if (!node.IsScalar()) fail(key, "expected a number");
   double value;
   const std::string& text = node.Scalar();
-  if (text == ".nan" || text == ".NaN" || text == "nan" || text == "NaN" || text.find("inf") != std::string::npos ||
-      text.find("Inf") != std::string::npos) {
+  if (text == ".nan" || text == ".NaN" || text == "nan" || text == "NaN" ||
+      text.find("inf") != std::string::npos || text.find("Inf") != std::string::npos) {
     fail(key, "expected a finite number, got '" + text + "'");
   }
   try {
@@ -176,7 +179,8 @@ int YamlReader::integer(const std::string& key, int fallback, int min, int max) 
     if (!node.IsScalar()) throw YAML::Exception(YAML::Mark::null_mark(), "");
     value = node.as<long>();
   } catch (const YAML::Exception&) {
-    fail(key, "expected a whole number" + (node.IsScalar() ? ", got '" + node.Scalar() + "'" : std::string()));
+    fail(key, "expected a whole number" +
+                  (node.IsScalar() ? ", got '" + node.Scalar() + "'" : std::string()));
   }
   if (value < min || value > max) {
     fail(key, "value " + std::to_string(value) + " is out of range [" + std::to_string(min) + ", " +
@@ -256,7 +260,8 @@ void YamlReader::check_unused(const YAML::Node& node, const std::string& path) c
     const std::string key = path.empty() ? entry.first.Scalar() : path + "." + entry.first.Scalar();
     if (known_.count(key)) {
       if (entry.second.IsSequence()) {
-        for (size_t i = 0; i < entry.second.size(); ++i) check_unused(entry.second[i], key + "." + std::to_string(i));
+        for (size_t i = 0; i < entry.second.size(); ++i)
+          check_unused(entry.second[i], key + "." + std::to_string(i));
       }
       continue;
     }
@@ -290,7 +295,8 @@ void YamlReader::check_unused(const YAML::Node& node, const std::string& path) c
       }
     }
     std::string message = "unknown key";
-    if (!best.empty() && best_distance <= std::max<size_t>(3, key.size() / 4)) message += " (did you mean '" + best + "'?)";
+    if (!best.empty() && best_distance <= std::max<size_t>(3, key.size() / 4))
+      message += " (did you mean '" + best + "'?)";
     fail(key, message);
   }
 }

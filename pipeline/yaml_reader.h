@@ -19,7 +19,8 @@ class YamlReader {
   YamlReader(YAML::Node root, std::string source_name);
 
   // Replaces (or adds) the value at a dotted key with `value_text` parsed as YAML, as given on
-  // the command line by --set key=value. Numeric parts index sequences ("path.segments.0.length_m").
+  // the command line by --set key=value. Numeric parts index sequences
+  // ("path.segments.0.length_m").
   void set_override(const std::string& dotted_key, const std::string& value_text);
 
   bool has(const std::string& key) const;
@@ -51,8 +52,8 @@ class YamlReader {
 
   YAML::Node root_;
   std::string source_;
-  std::set<std::string> known_;                     // every key asked for
-  std::map<std::string, std::string> overrides_;    // key -> "--set key=value"
+  std::set<std::string> known_;                        // every key asked for
+  std::map<std::string, std::string> overrides_;       // key -> "--set key=value"
   std::map<std::string, std::string> created_groups_;  // group made by an override -> its option
 };
 

@@ -12,8 +12,10 @@ namespace agv::tools {
 std::string gnuplot_quote(const std::string& text) {
   std::string quoted = "'";
   for (char c : text) {
-    if (c == '\'') quoted += "''";
-    else quoted += c;
+    if (c == '\'')
+      quoted += "''";
+    else
+      quoted += c;
   }
   return quoted + "'";
 }
@@ -28,7 +30,8 @@ std::string run_gnuplot(const std::string& script) {
     std::ofstream out(script_path);
     out << script;
   }
-  const std::string command = "gnuplot " + script_path.string() + " > " + log_path.string() + " 2>&1";
+  const std::string command =
+      "gnuplot " + script_path.string() + " > " + log_path.string() + " 2>&1";
   const int status = std::system(command.c_str());
   std::stringstream log;
   {

@@ -9,7 +9,9 @@
 #include "tools/simulate_command.h"
 
 int main(int argc, char** argv) {
-  CLI::App app{"agv: vision-in-the-loop AGV path tracker (perception, finite-step control, closed-loop simulation)"};
+  CLI::App app{
+      "agv: vision-in-the-loop AGV path tracker (perception, finite-step control, closed-loop "
+      "simulation)"};
   app.set_version_flag("--version", "agv 0.1.0");
   app.require_subcommand(1);
   agv::tools::SimulateArgs simulate;

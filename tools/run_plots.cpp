@@ -36,15 +36,22 @@ std::string plot_run(const pipeline::OutputFolder& folder, const pipeline::Scena
          << "set grid\nset key top right\n"
          << "set xlabel 'time (s)'\n"
          << "set ylabel 'lateral error e_{d} (mm)'\n"
-         << "plot " << trace << " using 1:($6*1000) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true',"
-         << " " << frames << " using 2:($5>0 ? $7*1000 : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' title 'measured (at frame time)',"
-         << " " << band_d_mm << " with lines dt 2 lc rgb '#555555' title 'settle band ±" << band_d_mm << " mm',"
+         << "plot " << trace
+         << " using 1:($6*1000) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true',"
+         << " " << frames
+         << " using 2:($5>0 ? $7*1000 : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' "
+            "title 'measured (at frame time)',"
+         << " " << band_d_mm << " with lines dt 2 lc rgb '#555555' title 'settle band ±"
+         << band_d_mm << " mm',"
          << " " << -band_d_mm << " with lines dt 2 lc rgb '#555555' notitle\n"
          << "set ylabel 'heading error e_{θ} (deg)'\n"
-         << "plot " << trace << " using 1:($5*180/pi) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true',"
-         << " " << frames << " using 2:($5>0 ? $6*180/pi : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' title 'measured (at frame time)',"
-         << " " << band_theta_deg << " with lines dt 2 lc rgb '#555555' title 'settle band ±" << std::setprecision(3)
-         << band_theta_deg << " deg',"
+         << "plot " << trace
+         << " using 1:($5*180/pi) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true',"
+         << " " << frames
+         << " using 2:($5>0 ? $6*180/pi : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' "
+            "title 'measured (at frame time)',"
+         << " " << band_theta_deg << " with lines dt 2 lc rgb '#555555' title 'settle band ±"
+         << std::setprecision(3) << band_theta_deg << " deg',"
          << " " << -band_theta_deg << " with lines dt 2 lc rgb '#555555' notitle\n"
          << "unset multiplot\n";
   std::string failure = run_gnuplot(errors.str());
@@ -67,7 +74,8 @@ std::string plot_run(const pipeline::OutputFolder& folder, const pipeline::Scena
     y_hi = std::max(y_hi, std::stod(y));
   }
   const bool straight_along_x = (y_hi - y_lo) < 0.05 * std::max(1e-6, x_hi - x_lo) &&
-                                std::abs(s.path.heading_at(0.0)) < 1e-9 && s.path.segments().size() == 1 &&
+                                std::abs(s.path.heading_at(0.0)) < 1e-9 &&
+                                s.path.segments().size() == 1 &&
                                 s.path.segments().front().curvature_1_m == 0.0;
   const double margin = 0.1 * std::max(x_hi - x_lo, 0.05);
   std::ostringstream path;
@@ -81,15 +89,22 @@ std::string plot_run(const pipeline::OutputFolder& folder, const pipeline::Scena
   if (straight_along_x) {
     path << "set ylabel 'y (mm, exaggerated)'\n"
          << "plot " << gnuplot_quote(folder.file("path.csv").string())
-         << " using 2:($3*1000) every ::1 with lines lw 6 lc rgb '#9ecae1' title 'path (tape centre line)',"
-         << " " << trace << " using 2:($3*1000) every ::1 with lines lw 2 lc rgb '#d62728' title 'vehicle reference point',"
-         << " " << trace << " using 2:($3*1000) every ::1::1 with points pt 7 ps 1.5 lc rgb '#2ca02c' title 'start'\n";
+         << " using 2:($3*1000) every ::1 with lines lw 6 lc rgb '#9ecae1' title 'path (tape "
+            "centre line)',"
+         << " " << trace
+         << " using 2:($3*1000) every ::1 with lines lw 2 lc rgb '#d62728' title 'vehicle "
+            "reference point',"
+         << " " << trace
+         << " using 2:($3*1000) every ::1::1 with points pt 7 ps 1.5 lc rgb '#2ca02c' title "
+            "'start'\n";
   } else {
     path << "set ylabel 'y (m)'\nset size ratio -1\n"
          << "plot " << gnuplot_quote(folder.file("path.csv").string())
          << " using 2:3 every ::1 with lines lw 6 lc rgb '#9ecae1' title 'path (tape centre line)',"
-         << " " << trace << " using 2:3 every ::1 with lines lw 2 lc rgb '#d62728' title 'vehicle reference point',"
-         << " " << trace << " using 2:3 every ::1::1 with points pt 7 ps 1.5 lc rgb '#2ca02c' title 'start'\n";
+         << " " << trace
+         << " using 2:3 every ::1 with lines lw 2 lc rgb '#d62728' title 'vehicle reference point',"
+         << " " << trace
+         << " using 2:3 every ::1::1 with points pt 7 ps 1.5 lc rgb '#2ca02c' title 'start'\n";
   }
   return run_gnuplot(path.str());
 }

@@ -32,14 +32,19 @@ std::string format_optional(const std::optional<double>& value, double scale, co
 void add_simulate_command(CLI::App& app, SimulateArgs& args) {
   CLI::App* sub = app.add_subcommand(
       "simulate",
-      "Closed-loop simulation from camera images: renderer -> perception -> bounded queue -> controller -> "
-      "vehicle. With no options it runs the built-in default scenario (seed 000's Table 1: 0.3 m/s, "
-      "5 deg / 10 mm initial error, Mecanum AGV, finite-step controller). Writes trace.csv, frames.csv, "
+      "Closed-loop simulation from camera images: renderer -> perception -> bounded queue -> "
+      "controller -> "
+      "vehicle. With no options it runs the built-in default scenario (seed 000's Table 1: 0.3 "
+      "m/s, "
+      "5 deg / 10 mm initial error, Mecanum AGV, finite-step controller). Writes trace.csv, "
+      "frames.csv, "
       "summary.json, errors.png and path.png to the output folder and prints a one-line summary.");
   sub->add_option("--scenario", args.scenario_file,
-                  "Scenario YAML (every key is shown, with its meaning, in tools/config/default_scenario.yaml)");
+                  "Scenario YAML (every key is shown, with its meaning, in "
+                  "tools/config/default_scenario.yaml)");
   sub->add_option("--set", args.overrides,
-                  "Override one scenario key, e.g. --set path_speed_m_s=0.5 --set controller.horizon=shrinking")
+                  "Override one scenario key, e.g. --set path_speed_m_s=0.5 --set "
+                  "controller.horizon=shrinking")
       ->type_name("KEY=VALUE");
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
   sub->add_flag("--json", args.json, "Print summary.json on stdout instead of the summary line");
@@ -57,13 +62,15 @@ int run_simulate(const SimulateArgs& args) {
   }
   source.builtin_files = embedded_files();
   std::vector<std::pair<std::string, std::string>> overrides;
-  for (const std::string& option : args.overrides) overrides.push_back(pipeline::split_override(option));
+  for (const std::string& option : args.overrides)
+    overrides.push_back(pipeline::split_override(option));
   const pipeline::Scenario scenario = pipeline::load_scenario(source, overrides);
 
   pipeline::OutputFolder folder(args.out_dir);
   pipeline::RunResult run;
   {
-    ProgressBar bar("simulating " + std::to_string(scenario.duration_s).substr(0, 4) + " s", !args.quiet);
+    ProgressBar bar("simulating " + std::to_string(scenario.duration_s).substr(0, 4) + " s",
+                    !args.quiet);
     run = pipeline::run_scenario(scenario, [&](double f) { bar.update(f); });
   }
   const pipeline::RunMetrics metrics = pipeline::compute_metrics(run, scenario);
@@ -77,12 +84,14 @@ int run_simulate(const SimulateArgs& args) {
     json << summary.dump(2) << '\n';
     std::ofstream camera(folder.file("camera.yaml"));
     camera << perception::camera_file_text(scenario.camera);
-    if (!trace || !frames || !json || !camera) throw InputError(folder.target().string() + ": cannot write the results");
+    if (!trace || !frames || !json || !camera)
+      throw InputError(folder.target().string() + ": cannot write the results");
   }
   write_path_csv(folder.file("path.csv").string(), scenario.path);
   if (!args.no_plots) {
-    const std::string title = run.controller_name + ", " + std::to_string(scenario.path_speed_m_s).substr(0, 4) +
-                              " m/s, latency " + std::to_string(scenario.latency_frames) + " frame(s)";
+    const std::string title =
+        run.controller_name + ", " + std::to_string(scenario.path_speed_m_s).substr(0, 4) +
+        " m/s, latency " + std::to_string(scenario.latency_frames) + " frame(s)";
     const std::string failure = plot_run(folder, scenario, title);
     if (!failure.empty()) std::cerr << "agv simulate: warning: plots skipped: " << failure << '\n';
   }
@@ -92,15 +101,17 @@ int run_simulate(const SimulateArgs& args) {
     std::cout << summary.dump(2) << '\n';
   } else {
     char line[512];
-    std::snprintf(line, sizeof(line),
-                  "settle %s s (bands %.1f mm / %.1f deg) | max |e_d| %.2f mm, max |e_theta| %.2f deg | "
-                  "perception rms %s mm / %s deg | limit violations %d | frames lost %d/%d",
-                  format_optional(metrics.settle_time_s, 1.0, "%.2f").c_str(), 1e3 * scenario.metrics.settle_band_e_d_m,
-                  rad_to_deg(scenario.metrics.settle_band_e_theta_rad), 1e3 * metrics.max_abs_e_d_m,
-                  rad_to_deg(metrics.max_abs_e_theta_rad),
-                  format_optional(metrics.perception_rms_e_d_m, 1e3, "%.3f").c_str(),
-                  format_optional(metrics.perception_rms_e_theta_rad, 180.0 / M_PI, "%.3f").c_str(),
-                  metrics.limit_violations, metrics.frames_lost, metrics.frames);
+    std::snprintf(
+        line, sizeof(line),
+        "settle %s s (bands %.1f mm / %.1f deg) | max |e_d| %.2f mm, max |e_theta| %.2f deg | "
+        "perception rms %s mm / %s deg | limit violations %d | frames lost %d/%d",
+        format_optional(metrics.settle_time_s, 1.0, "%.2f").c_str(),
+        1e3 * scenario.metrics.settle_band_e_d_m,
+        rad_to_deg(scenario.metrics.settle_band_e_theta_rad), 1e3 * metrics.max_abs_e_d_m,
+        rad_to_deg(metrics.max_abs_e_theta_rad),
+        format_optional(metrics.perception_rms_e_d_m, 1e3, "%.3f").c_str(),
+        format_optional(metrics.perception_rms_e_theta_rad, 180.0 / M_PI, "%.3f").c_str(),
+        metrics.limit_violations, metrics.frames_lost, metrics.frames);
     std::cout << line << '\n' << "output: " << folder.target().string() << '\n';
   }
   return 0;

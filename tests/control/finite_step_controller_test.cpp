@@ -28,7 +28,7 @@ TEST(FiniteStepController, PicksTheSmallestFeasibleHorizon) {
   const ControllerOutput out = controller.update({deg_to_rad(5), 0.01, 0.0, 0.0}, table1_context());
   EXPECT_EQ(out.horizon_steps, 4);
   EXPECT_FALSE(out.no_feasible_horizon);
-  EXPECT_NEAR(out.command.vy_m_s, -0.041382, 2e-6);               // paper's v_x = -v_y
+  EXPECT_NEAR(out.command.vy_m_s, -0.041382, 2e-6);                // paper's v_x = -v_y
   EXPECT_NEAR(out.command.wz_rad_s, -deg_to_rad(5) / 0.4, 1e-12);  // paper's dw = -w_z
   EXPECT_DOUBLE_EQ(out.command.vx_m_s, 0.3);
 }
@@ -58,9 +58,11 @@ TEST(FiniteStepController, AcceptedPlansMeetEveryLimit) {
   for (double e_theta_deg : {-8.0, -3.0, 0.0, 4.0, 8.0}) {
     for (double e_d_m : {-0.02, -0.005, 0.0, 0.01, 0.02}) {
       controller.reset();
-      const ControllerOutput out = controller.update({deg_to_rad(e_theta_deg), e_d_m, 0.0, 0.0}, context);
+      const ControllerOutput out =
+          controller.update({deg_to_rad(e_theta_deg), e_d_m, 0.0, 0.0}, context);
       if (out.no_feasible_horizon) continue;
-      const FiniteStepPlan plan = plan_finite_step(out.horizon_steps, {deg_to_rad(e_theta_deg), e_d_m}, 0.3, 0.1);
+      const FiniteStepPlan plan =
+          plan_finite_step(out.horizon_steps, {deg_to_rad(e_theta_deg), e_d_m}, 0.3, 0.1);
       double previous = 0.0;
       for (double v : plan.lateral_m_s) {
         EXPECT_LE(std::abs(v - previous) / 0.1, 0.5 + 1e-9);

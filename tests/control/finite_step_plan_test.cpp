@@ -22,7 +22,8 @@ TEST(FiniteStepPlan, Eq20DrivesTheEq12ModelToZeroInNSteps) {
                         Case{10, deg_to_rad(5), 0.01, 0.5}, Case{7, deg_to_rad(-8), -0.02, 0.3},
                         Case{3, deg_to_rad(2), -0.015, 0.8}, Case{25, 0.0, 0.005, 0.3},
                         Case{6, deg_to_rad(8), 0.0, 0.0}}) {
-    const FiniteStepPlan plan = plan_finite_step(c.steps, {c.e_theta0_rad, c.e_d0_m}, c.path_speed_m_s, ts);
+    const FiniteStepPlan plan =
+        plan_finite_step(c.steps, {c.e_theta0_rad, c.e_d0_m}, c.path_speed_m_s, ts);
     ASSERT_EQ(static_cast<int>(plan.lateral_m_s.size()), c.steps);
     PlanErrors e{c.e_theta0_rad, c.e_d0_m};
     for (int k = 0; k < c.steps; ++k) {

@@ -18,8 +18,8 @@ LineTracker make_tracker(double hold_s) {
   options.ts_s = kTs;
   options.path_speed_m_s = 0.3;
   options.line_lost_hold_s = hold_s;
-  return LineTracker(std::make_unique<FiniteStepController>(FiniteStepController::Options{}), kLimits, options,
-                     {0.3, 0.0, 0.0});
+  return LineTracker(std::make_unique<FiniteStepController>(FiniteStepController::Options{}),
+                     kLimits, options, {0.3, 0.0, 0.0});
 }
 
 LineMeasurement seen(double stamp_s, double e_theta_rad = 0.0, double e_d_m = 0.0) {
@@ -58,7 +58,8 @@ TEST(LineTracker, HoldsThenStopsWithinTheAccelerationLimitThenResumes) {
       EXPECT_TRUE(out.flags & kStopping) << "t=" << t;
       distance_m += out.command.vx_m_s * kTs;
     }
-    if (stopped_at_s < 0 && std::abs(out.command.vx_m_s) + std::abs(out.command.vy_m_s) < 1e-12) stopped_at_s = t;
+    if (stopped_at_s < 0 && std::abs(out.command.vx_m_s) + std::abs(out.command.vy_m_s) < 1e-12)
+      stopped_at_s = t;
     previous = out.command;
   }
   // Braking starts at 0.8 s; from 0.3 m/s in steps of a_max * Ts = 0.05 m/s the commands are

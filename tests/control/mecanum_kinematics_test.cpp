@@ -8,8 +8,9 @@ namespace {
 const MecanumGeometry kGeometry{0.05, 0.20, 0.20};  // r, L1, L2: L1 + L2 = 0.4 m
 
 TEST(MecanumKinematics, ForwardOfInverseIsIdentity) {
-  for (const BodyTwist& twist : {BodyTwist{0.3, 0.0, 0.0}, BodyTwist{0.0, 0.2, 0.0}, BodyTwist{0.0, 0.0, 1.0},
-                                 BodyTwist{0.3, -0.05, 0.4}, BodyTwist{-0.7, 0.3, -2.0}}) {
+  for (const BodyTwist& twist :
+       {BodyTwist{0.3, 0.0, 0.0}, BodyTwist{0.0, 0.2, 0.0}, BodyTwist{0.0, 0.0, 1.0},
+        BodyTwist{0.3, -0.05, 0.4}, BodyTwist{-0.7, 0.3, -2.0}}) {
     const BodyTwist back = mecanum_forward(kGeometry, mecanum_inverse(kGeometry, twist));
     EXPECT_NEAR(back.vx_m_s, twist.vx_m_s, 1e-12);
     EXPECT_NEAR(back.vy_m_s, twist.vy_m_s, 1e-12);

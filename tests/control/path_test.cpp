@@ -12,7 +12,9 @@ constexpr double kPi = std::numbers::pi;
 
 // Line along +x from the origin, then a left quarter circle of radius 0.5 around (1.0, 0.5),
 // then a line along +y from (1.5, 0.5).
-Path l_turn() { return Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.5, kPi / 2).add_line(1.0); }
+Path l_turn() {
+  return Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.5, kPi / 2).add_line(1.0);
+}
 
 TEST(Path, GeometryOfLineArcLine) {
   const Path path = l_turn();
@@ -64,7 +66,8 @@ TEST(Path, PointsBeyondTheEnds) {
 
 // The hint keeps the foot point on the piece the vehicle is on where the path passes near itself.
 TEST(Path, HintKeepsTheFootLocal) {
-  const Path loop = Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.1, kPi).add_line(1.0);
+  const Path loop =
+      Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.1, kPi).add_line(1.0);
   // (0.5, 0.09) is 0.09 from the first line and 0.11 from the return line.
   EXPECT_EQ(loop.project({0.5, 0.11}).segment, 2);
   EXPECT_EQ(loop.project({0.5, 0.11}, 0.5, 0.3).segment, 0);

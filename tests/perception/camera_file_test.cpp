@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "common/input_error.h"
 
@@ -100,7 +100,8 @@ TEST_F(TempDir, FileFromOpenCvCalibrationSampleLoadsAsIntrinsics) {
 }
 
 TEST_F(TempDir, ShippedDefaultCameraLoads) {
-  const CameraFile camera = load_camera_file(std::string(AGV_SOURCE_DIR) + "/tools/config/default_camera.yaml");
+  const CameraFile camera =
+      load_camera_file(std::string(AGV_SOURCE_DIR) + "/tools/config/default_camera.yaml");
   ASSERT_TRUE(camera.mount.has_value());
   EXPECT_NEAR(camera.mount->xyz_m.x(), 0.30, 1e-12);
   EXPECT_NEAR(camera.mount->xyz_m.z(), 0.15, 1e-12);
@@ -120,7 +121,8 @@ TEST_F(TempDir, SaveThenLoadGivesTheSameNumbers) {
   const std::string path = (dir_ / "saved.yaml").string();
   save_camera_file(path, camera);
   const CameraFile back = load_camera_file(path);
-  for (int i = 0; i < 9; ++i) EXPECT_DOUBLE_EQ(back.intrinsics.camera_matrix.val[i], camera.intrinsics.camera_matrix.val[i]);
+  for (int i = 0; i < 9; ++i)
+    EXPECT_DOUBLE_EQ(back.intrinsics.camera_matrix.val[i], camera.intrinsics.camera_matrix.val[i]);
   EXPECT_EQ(back.intrinsics.distortion, camera.intrinsics.distortion);
   ASSERT_TRUE(back.mount);
   EXPECT_TRUE(back.mount->xyz_m.isApprox(mount.xyz_m, 1e-15));
@@ -131,11 +133,14 @@ TEST_F(TempDir, SaveThenLoadGivesTheSameNumbers) {
 // DESIGN.md: the mount keys may be a 1x3 opencv-matrix or a plain YAML sequence.
 TEST_F(TempDir, MountAsMatrixOrSequence) {
   const std::string base = std::string(kOpenCvSampleFile);
-  const CameraFile a = load_camera_file(write("a.yaml", base + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\n"
-                                                             "mount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n"));
-  const CameraFile b = load_camera_file(write(
-      "b.yaml", base + "mount_xyz_m: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   data: [ 0.3, 0.0, 0.15 ]\n"
-                       "mount_rpy_rad: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   data: [ 3.14159, 0., -1.5708 ]\n"));
+  const CameraFile a =
+      load_camera_file(write("a.yaml", base + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\n"
+                                              "mount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n"));
+  const CameraFile b = load_camera_file(
+      write("b.yaml", base + "mount_xyz_m: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   "
+                             "data: [ 0.3, 0.0, 0.15 ]\n"
+                             "mount_rpy_rad: !!opencv-matrix\n   rows: 1\n   cols: 3\n   dt: d\n   "
+                             "data: [ 3.14159, 0., -1.5708 ]\n"));
   ASSERT_TRUE(a.mount && b.mount);
   EXPECT_TRUE(a.mount->xyz_m.isApprox(b.mount->xyz_m));
   EXPECT_TRUE(a.mount->rpy_rad.isApprox(b.mount->rpy_rad));
@@ -157,19 +162,28 @@ TEST_F(TempDir, BadFilesNameTheFileAndTheField) {
       {"this: is: not: yaml: [", "not a readable"},
       {replaced("image_width: 640", "image_width: -640"), "image_width"},
       {replaced("image_width: 640", "image_width: wide"), "image_width"},
-      {replaced("5.3646318593402209e+02, 0., 3.1950000000000000e+02", "0., 0., 3.1950000000000000e+02"), "camera_matrix"},
-      {replaced("5.3646318593402209e+02, 0., 3.1950000000000000e+02", ".nan, 0., 3.1950000000000000e+02"), "camera_matrix"},
-      {replaced("-2.7990589454612962e-01, 1.3187516658592591e-01", "-3.0, 1.3187516658592591e-01"), "distortion_coefficients"},
+      {replaced("5.3646318593402209e+02, 0., 3.1950000000000000e+02",
+                "0., 0., 3.1950000000000000e+02"),
+       "camera_matrix"},
+      {replaced("5.3646318593402209e+02, 0., 3.1950000000000000e+02",
+                ".nan, 0., 3.1950000000000000e+02"),
+       "camera_matrix"},
+      {replaced("-2.7990589454612962e-01, 1.3187516658592591e-01", "-3.0, 1.3187516658592591e-01"),
+       "distortion_coefficients"},
       {replaced("board_width: 9", "bord_width: 9"), "bord_width"},
-      {good + "mount_xyz_m: [ 0.3, 0.0 ]\nmount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n", "mount_xyz_m"},
+      {good + "mount_xyz_m: [ 0.3, 0.0 ]\nmount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n",
+       "mount_xyz_m"},
       {good + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\n", "mount_rpy_rad"},
-      {good + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\nmount_rpy_rad: [ 0.0, 0.0, 0.0 ]\n", "mount_rpy_rad"},  // looks up
-      {good + "mount_xyz_m: [ 0.3, 0.0, -0.15 ]\nmount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n", "mount_xyz_m"},
+      {good + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\nmount_rpy_rad: [ 0.0, 0.0, 0.0 ]\n",
+       "mount_rpy_rad"},  // looks up
+      {good + "mount_xyz_m: [ 0.3, 0.0, -0.15 ]\nmount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n",
+       "mount_xyz_m"},
   };
   for (const Case& c : cases) {
     const std::string message = error_for(c.text);
     EXPECT_NE(message.find("bad.yaml"), std::string::npos) << message;
-    EXPECT_NE(message.find(c.field), std::string::npos) << "expected '" << c.field << "' in: " << message;
+    EXPECT_NE(message.find(c.field), std::string::npos)
+        << "expected '" << c.field << "' in: " << message;
   }
   try {
     load_camera_file((dir_ / "missing.yaml").string());

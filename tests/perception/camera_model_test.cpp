@@ -23,8 +23,9 @@ TEST(MountPose, DesignWorkedExample) {
 }
 
 TEST(MountPose, RollPitchYawRoundTrip) {
-  for (const Eigen::Vector3d& rpy : {Eigen::Vector3d(3.0, 0.1, -1.5), Eigen::Vector3d(-2.9, -0.3, 0.4),
-                                    Eigen::Vector3d(kPi, 0.05, -kPi / 2 + 0.05)}) {
+  for (const Eigen::Vector3d& rpy :
+       {Eigen::Vector3d(3.0, 0.1, -1.5), Eigen::Vector3d(-2.9, -0.3, 0.4),
+        Eigen::Vector3d(kPi, 0.05, -kPi / 2 + 0.05)}) {
     MountPose mount;
     mount.rpy_rad = rpy;
     const MountPose back = MountPose::from_rotation(mount.xyz_m, mount.rotation());
@@ -60,8 +61,9 @@ TEST(CameraModel, DefaultCameraSeesTheFloorAheadOfTheVehicle) {
 TEST(CameraModel, PixelToFloorToPixelRoundTrip) {
   for (const MountPose& mount : {testing::straight_down_mount(), testing::tilted_offset_mount()}) {
     const CameraModel camera(testing::default_intrinsics(), mount);
-    for (const cv::Point2d pixel : {cv::Point2d(0, 0), cv::Point2d(639, 0), cv::Point2d(320.25, 100.75),
-                                    cv::Point2d(17, 470), cv::Point2d(639, 479)}) {
+    for (const cv::Point2d pixel :
+         {cv::Point2d(0, 0), cv::Point2d(639, 0), cv::Point2d(320.25, 100.75), cv::Point2d(17, 470),
+          cv::Point2d(639, 479)}) {
       const auto floor = camera.pixel_to_floor(pixel);
       ASSERT_TRUE(floor);
       const auto back = camera.floor_to_pixel(*floor);
@@ -97,8 +99,10 @@ TEST(CameraModel, RaysAboveTheHorizonMissTheFloor) {
   r.col(2) = Eigen::Vector3d(std::sin(tilt), 0.0, -std::cos(tilt));
   r.col(1) = Eigen::Vector3d(-std::cos(tilt), 0.0, -std::sin(tilt));
   r.col(0) = r.col(1).cross(r.col(2));
-  const CameraModel camera(testing::default_intrinsics(), MountPose::from_rotation({0.3, 0.0, 0.15}, r));
-  EXPECT_FALSE(camera.pixel_to_floor({319.5, 0.0}).has_value());  // image top looks above the horizon
+  const CameraModel camera(testing::default_intrinsics(),
+                           MountPose::from_rotation({0.3, 0.0, 0.15}, r));
+  EXPECT_FALSE(
+      camera.pixel_to_floor({319.5, 0.0}).has_value());  // image top looks above the horizon
   EXPECT_TRUE(camera.pixel_to_floor({319.5, 479.0}).has_value());
 }
 

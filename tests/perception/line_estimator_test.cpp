@@ -18,15 +18,17 @@ struct Accuracy {
 
 // Renders `frames` frames of a straight tape along the world x axis with the vehicle at random
 // poses (|y| <= 30 mm, |yaw| <= 8 deg, moving at 0.3 m/s) and measures them.
-Accuracy measure(const CameraModel& camera, const pipeline::Scene& scene, const LineEstimator::Options& options,
-                 int frames, bool grey = false, std::uint64_t seed = 11) {
+Accuracy measure(const CameraModel& camera, const pipeline::Scene& scene,
+                 const LineEstimator::Options& options, int frames, bool grey = false,
+                 std::uint64_t seed = 11) {
   const pipeline::FrameRenderer renderer(camera, scene);
   const LineEstimator estimator(camera, options);
   cv::RNG rng(seed);
   Accuracy a;
   double sum_d = 0.0, sum_theta = 0.0;
   for (int i = 0; i < frames; ++i) {
-    const Pose2 pose{rng.uniform(0.0, 3.0), rng.uniform(-0.03, 0.03), deg_to_rad(rng.uniform(-8.0, 8.0))};
+    const Pose2 pose{rng.uniform(0.0, 3.0), rng.uniform(-0.03, 0.03),
+                     deg_to_rad(rng.uniform(-8.0, 8.0))};
     cv::Mat frame = renderer.render(pose, {0.3, 0.0, 0.0}, i);
     if (grey) cv::cvtColor(frame, frame, cv::COLOR_BGR2GRAY);
     const LineMeasurement m = estimator.estimate(frame, 0.0);
@@ -97,7 +99,8 @@ TEST(LineEstimator, NeverReportsALineOnFramesWithoutTape) {
     no_hint.tape.width_m = 0.025;
     for (const LineEstimator::Options* options : {&hint, &no_hint}) {
       const Accuracy a = measure(camera, scene, *options, 15, false, 50 + variant);
-      EXPECT_EQ(a.found, 0) << "variant " << variant << (options->tape.color_bgr ? " with hint" : " without hint");
+      EXPECT_EQ(a.found, 0) << "variant " << variant
+                            << (options->tape.color_bgr ? " with hint" : " without hint");
     }
   }
 }
@@ -108,9 +111,12 @@ TEST(LineEstimator, RejectsFramesOfTheWrongSizeOrType) {
   LineDetection details;
   EXPECT_FALSE(estimator.estimate(cv::Mat(), 0.0, &details).line_found);
   EXPECT_NE(details.rejected_because.find("empty"), std::string::npos);
-  EXPECT_FALSE(estimator.estimate(cv::Mat(240, 320, CV_8UC3, cv::Scalar(100, 100, 100)), 0.0, &details).line_found);
+  EXPECT_FALSE(
+      estimator.estimate(cv::Mat(240, 320, CV_8UC3, cv::Scalar(100, 100, 100)), 0.0, &details)
+          .line_found);
   EXPECT_NE(details.rejected_because.find("size"), std::string::npos);
-  EXPECT_FALSE(estimator.estimate(cv::Mat(480, 640, CV_16UC1, cv::Scalar(100)), 0.0, &details).line_found);
+  EXPECT_FALSE(
+      estimator.estimate(cv::Mat(480, 640, CV_16UC1, cv::Scalar(100)), 0.0, &details).line_found);
   EXPECT_NE(details.rejected_because.find("8-bit"), std::string::npos);
 }
 

@@ -21,8 +21,8 @@ constexpr bool kSanitized = false;
 #endif
 
 Scenario default_with(const std::vector<std::pair<std::string, std::string>>& overrides) {
-  return load_scenario({tools::embedded_files().at("default_scenario.yaml"), "built-in default scenario", "",
-                        tools::embedded_files()},
+  return load_scenario({tools::embedded_files().at("default_scenario.yaml"),
+                        "built-in default scenario", "", tools::embedded_files()},
                        overrides);
 }
 
@@ -37,7 +37,9 @@ struct Expectation {
 TEST(ClosedLoop, SettlesWithinThePapersTimeFromImages) {
   for (const Expectation& e :
        {Expectation{{}, 1.2}, Expectation{{{"path_speed_m_s", "0.5"}}, 1.2},
-        Expectation{{{"initial_error.e_theta_rad", std::to_string(deg_to_rad(-7))}, {"initial_error.e_d_m", "-0.015"}}, 1.2}}) {
+        Expectation{{{"initial_error.e_theta_rad", std::to_string(deg_to_rad(-7))},
+                     {"initial_error.e_d_m", "-0.015"}},
+                    1.2}}) {
     const Scenario s = default_with(e.overrides);
     const RunResult run = run_lockstep(s);
     const RunMetrics m = compute_metrics(run, s);
@@ -89,7 +91,8 @@ TEST(ClosedLoop, LockstepIsDeterministic) {
 // scale 1) leaves 100 ms per period, ample even for a sanitizer build.
 TEST(ClosedLoop, ThreadedModeMatchesLockstep) {
   const Scenario lockstep = default_with({{"duration_s", "2.0"}});
-  const Scenario threaded = default_with({{"duration_s", "2.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "1"}});
+  const Scenario threaded =
+      default_with({{"duration_s", "2.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "1"}});
   const RunMetrics a = compute_metrics(run_lockstep(lockstep), lockstep);
   const RunResult run = run_threaded(threaded);
   const RunMetrics b = compute_metrics(run, threaded);
@@ -108,8 +111,12 @@ TEST(ClosedLoop, ThreadedModeMatchesLockstep) {
 // Overload: the camera produces ten frames per control period, far faster than the control
 // thread consumes them; the queue stays bounded and every frame is accounted for.
 TEST(ClosedLoop, ThreadedOverloadLosesNothingUncounted) {
-  const Scenario s = default_with({{"duration_s", "1.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "2"},
-                                   {"loop.camera_fps", "100"}, {"loop.queue_capacity", "3"}, {"latency_frames", "0"}});
+  const Scenario s = default_with({{"duration_s", "1.0"},
+                                   {"loop.mode", "threaded"},
+                                   {"loop.time_scale", "2"},
+                                   {"loop.camera_fps", "100"},
+                                   {"loop.queue_capacity", "3"},
+                                   {"latency_frames", "0"}});
   const RunResult run = run_threaded(s);
   const QueueStats& q = run.queue;
   EXPECT_EQ(q.pushed + q.rejected, run.frames.size());

@@ -35,7 +35,8 @@ TEST(FrameRenderer, TapeIsWhereTheCameraModelSaysItIs) {
   scene.floor.texture_contrast = 0.0;
   scene.tapes[0].texture_contrast = 0.0;
   scene.effects = ImageEffects{0.0, 0.0, 0.0, 0.0, 0.0, 1.0};
-  const perception::CameraModel camera(testing::default_intrinsics(), testing::tilted_offset_mount());
+  const perception::CameraModel camera(testing::default_intrinsics(),
+                                       testing::tilted_offset_mount());
   const FrameRenderer renderer(camera, scene);
   const Pose2 pose{0.8, -0.012, deg_to_rad(4.0)};
   const cv::Mat frame = renderer.render(pose, {0.0, 0.0, 0.0}, 0);
@@ -45,10 +46,13 @@ TEST(FrameRenderer, TapeIsWhereTheCameraModelSaysItIs) {
       const Eigen::Vector2d p = to_vehicle.transform({x_world, y_world});
       const auto pixel = camera.floor_to_pixel(p);
       ASSERT_TRUE(pixel);
-      ASSERT_TRUE(pixel->x >= 0 && pixel->y >= 0 && pixel->x <= 639 && pixel->y <= 479) << x_world << ", " << y_world;
-      const cv::Vec3b colour = frame.at<cv::Vec3b>(static_cast<int>(std::lround(pixel->y)), static_cast<int>(std::lround(pixel->x)));
+      ASSERT_TRUE(pixel->x >= 0 && pixel->y >= 0 && pixel->x <= 639 && pixel->y <= 479)
+          << x_world << ", " << y_world;
+      const cv::Vec3b colour = frame.at<cv::Vec3b>(static_cast<int>(std::lround(pixel->y)),
+                                                   static_cast<int>(std::lround(pixel->x)));
       const cv::Vec3d expected = y_world == 0.0 ? scene.tapes[0].color_bgr : scene.floor.color_bgr;
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(colour[c], expected[c], 1.0) << x_world << ", " << y_world;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(colour[c], expected[c], 1.0) << x_world << ", " << y_world;
     }
   }
 }
@@ -66,7 +70,8 @@ TEST(FrameRenderer, SensorNoiseHasTheConfiguredSigma) {
   renderer.render({0, 0, 0}, {}, 2).convertTo(b, CV_32F);
   cv::Scalar mean, stddev;
   cv::meanStdDev(a - b, mean, stddev);
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(stddev[c], 4.0 * std::sqrt(2.0), 0.3);  // rounding adds ~0.3
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(stddev[c], 4.0 * std::sqrt(2.0), 0.3);  // rounding adds ~0.3
 }
 
 // Motion blur spreads the tape edge along the motion: sideways motion over the exposure widens

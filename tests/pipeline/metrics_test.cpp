@@ -22,7 +22,8 @@ TEST(Metrics, SettleTimeIsTheLastReentryInterpolated) {
 TEST(Metrics, SettleTimeLaterOfTheTwoSignalsAndUndefinedWhenNeverSettled) {
   const std::vector<double> t{0.0, 0.1, 0.2, 0.3};
   const std::vector<double> e_d{0.003, 0.001, 0.001, 0.001};
-  const std::vector<double> e_theta{0.1, 0.1, 0.02, 0.0};  // band 0.05: re-enters at 0.1 + 0.1 * 5/8
+  const std::vector<double> e_theta{0.1, 0.1, 0.02,
+                                    0.0};  // band 0.05: re-enters at 0.1 + 0.1 * 5/8
   EXPECT_NEAR(*settle_time(t, e_d, e_theta, 0.002, 0.05), 0.1 + 0.1 * 0.05 / 0.08, 1e-12);
   EXPECT_FALSE(settle_time(t, {0.0, 0.0, 0.0, 0.003}, e_theta, 0.002, 0.05).has_value());
   EXPECT_DOUBLE_EQ(*settle_time(t, {0.0, 0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 0.0}, 0.002, 0.05), 0.0);

@@ -20,7 +20,8 @@ TEST(Plant, ConstantTwistFollowsTheExactCircle) {
   EXPECT_NEAR(p.yaw_rad, kPi / 2, 1e-12);
   // Many small steps of the exact map give the same point as one big step.
   Pose2 stepped{0.0, 0.0, 0.0};
-  for (int i = 0; i < 1000; ++i) stepped = integrate_twist(stepped, {v, 0.0, w}, (kPi / 2) / w / 1000);
+  for (int i = 0; i < 1000; ++i)
+    stepped = integrate_twist(stepped, {v, 0.0, w}, (kPi / 2) / w / 1000);
   EXPECT_NEAR(stepped.x_m, radius, 1e-12);
   EXPECT_NEAR(stepped.y_m, radius, 1e-12);
 }

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "common/input_error.h"
 #include "tools/embedded_files.h"
@@ -13,12 +13,16 @@ namespace agv::pipeline {
 namespace {
 
 ScenarioText builtin() {
-  return {tools::embedded_files().at("default_scenario.yaml"), "built-in default scenario", "", tools::embedded_files()};
+  return {tools::embedded_files().at("default_scenario.yaml"), "built-in default scenario", "",
+          tools::embedded_files()};
 }
 
-ScenarioText text(const std::string& yaml) { return {yaml, "test.yaml", "", tools::embedded_files()}; }
+ScenarioText text(const std::string& yaml) {
+  return {yaml, "test.yaml", "", tools::embedded_files()};
+}
 
-std::string error_of(const ScenarioText& source, const std::vector<std::pair<std::string, std::string>>& overrides = {}) {
+std::string error_of(const ScenarioText& source,
+                     const std::vector<std::pair<std::string, std::string>>& overrides = {}) {
   try {
     load_scenario(source, overrides);
   } catch (const InputError& e) {
@@ -67,7 +71,9 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
     std::vector<std::string> expected;  // substrings of the message
   };
   const Case cases[] = {
-      {"controller:\n  ts: 0.1\n", {}, {"test.yaml", "controller.ts", "did you mean 'controller.ts_s'"}},
+      {"controller:\n  ts: 0.1\n",
+       {},
+       {"test.yaml", "controller.ts", "did you mean 'controller.ts_s'"}},
       {"pathspeed_m_s: 0.3\n", {}, {"test.yaml", "pathspeed_m_s", "unknown key"}},
       {"duration_s: five\n", {}, {"test.yaml", "duration_s", "expected a number"}},
       {"duration_s: .nan\n", {}, {"test.yaml", "duration_s", "finite"}},
@@ -86,7 +92,8 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
     const std::string message = error_of(text(c.yaml), c.overrides);
     ASSERT_FALSE(message.empty()) << c.yaml;
     for (const std::string& part : c.expected) {
-      EXPECT_NE(message.find(part), std::string::npos) << "expected '" << part << "' in: " << message;
+      EXPECT_NE(message.find(part), std::string::npos)
+          << "expected '" << part << "' in: " << message;
     }
   }
   EXPECT_THROW(split_override("no_equals_sign"), InputError);
@@ -94,10 +101,12 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
 
 TEST(ScenarioLoader, CameraPathIsRelativeToTheScenarioFile) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("agv_scenario_test_" + std::to_string(::getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("agv_scenario_test_" + std::to_string(::getpid()));
   fs::create_directories(dir / "cameras");
   std::string camera = tools::embedded_files().at("default_camera.yaml");
-  camera.replace(camera.find("mount_xyz_m: [ 0.30, 0.0, 0.15 ]"), 32, "mount_xyz_m: [ 0.40, 0.0, 0.20 ]");
+  camera.replace(camera.find("mount_xyz_m: [ 0.30, 0.0, 0.15 ]"), 32,
+                 "mount_xyz_m: [ 0.40, 0.0, 0.20 ]");
   std::ofstream(dir / "cameras" / "high.yaml") << camera;
   std::ofstream(dir / "run.yaml") << "camera: cameras/high.yaml\n";
   ScenarioText source = read_scenario_file((dir / "run.yaml").string());

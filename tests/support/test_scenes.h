@@ -22,7 +22,8 @@ inline perception::CameraIntrinsics default_intrinsics() {
   return in;
 }
 
-inline perception::MountPose straight_down_mount(double x_m = 0.30, double y_m = 0.0, double z_m = 0.15) {
+inline perception::MountPose straight_down_mount(double x_m = 0.30, double y_m = 0.0,
+                                                 double z_m = 0.15) {
   perception::MountPose mount;
   mount.xyz_m = {x_m, y_m, z_m};
   mount.rpy_rad = {std::numbers::pi, 0.0, -std::numbers::pi / 2};

@@ -1,12 +1,12 @@
 // End-to-end: the `agv` program as a user runs it.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -45,15 +45,17 @@ TEST_F(AgvCli, DefaultSimulationWritesItsResults) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("settle"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("output: " + path("run")), std::string::npos) << r.output;
-  for (const char* file : {"trace.csv", "frames.csv", "summary.json", "path.csv", "camera.yaml", "errors.png", "path.png"}) {
+  for (const char* file : {"trace.csv", "frames.csv", "summary.json", "path.csv", "camera.yaml",
+                           "errors.png", "path.png"}) {
     EXPECT_TRUE(fs::exists(dir_ / "run" / file)) << file;
   }
   std::ifstream in(dir_ / "run" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
-  for (const char* key : {"settle_time_s", "max_abs_e_d_m", "max_abs_e_theta_rad", "rms_e_d_m", "rms_e_theta_rad",
-                          "overshoot_e_d_m", "max_abs_v_lateral_m_s", "max_abs_accel_m_s2", "limit_violations",
-                          "frames", "frames_lost", "perception_rms_e_d_m", "perception_rms_e_theta_rad",
-                          "coverage_area_m2"}) {
+  for (const char* key :
+       {"settle_time_s", "max_abs_e_d_m", "max_abs_e_theta_rad", "rms_e_d_m", "rms_e_theta_rad",
+        "overshoot_e_d_m", "max_abs_v_lateral_m_s", "max_abs_accel_m_s2", "limit_violations",
+        "frames", "frames_lost", "perception_rms_e_d_m", "perception_rms_e_theta_rad",
+        "coverage_area_m2"}) {
     EXPECT_TRUE(summary.contains(key)) << key;
   }
   EXPECT_EQ(summary["limit_violations"], 0);
@@ -66,7 +68,8 @@ TEST_F(AgvCli, DefaultSimulationWritesItsResults) {
 }
 
 TEST_F(AgvCli, JsonSummaryOnStdout) {
-  const Result r = run("simulate --quiet --no-plots --json --set duration_s=1 --out " + path("run"));
+  const Result r =
+      run("simulate --quiet --no-plots --json --set duration_s=1 --out " + path("run"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const size_t brace = r.output.find('{');
   ASSERT_NE(brace, std::string::npos);
@@ -113,8 +116,9 @@ TEST_F(AgvCli, BenchPrintsTheDesignKeys) {
   const Result r = run("bench --frames 12 --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
-  for (const char* key : {"render_us_median", "perceive_us_median", "perceive_us_p99",
-                          "baseline_canny_hough_us_median", "control_us_median", "closed_loop_fps"}) {
+  for (const char* key :
+       {"render_us_median", "perceive_us_median", "perceive_us_p99",
+        "baseline_canny_hough_us_median", "control_us_median", "closed_loop_fps"}) {
     EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_GT(j[key].get<double>(), 0.0) << key;
   }
