@@ -112,6 +112,23 @@ double read_optional_real(const cv::FileNode& root, const std::string& key,
   return value;
 }
 
+struct CalibrationKeys {
+  const char* error;
+  const char* views;
+  const char* date;
+  const char* method;
+};
+
+CalibrationInfo read_calibration_info(const cv::FileNode& root, const std::string& source,
+                                      const CalibrationKeys& keys) {
+  CalibrationInfo info;
+  info.avg_reprojection_error_px = read_optional_real(root, keys.error, source, -1.0);
+  info.views = static_cast<int>(read_optional_real(root, keys.views, source, 0.0));
+  info.date = read_string(root, keys.date);
+  info.method = read_string(root, keys.method);
+  return info;
+}
+
 // The distorted radius must keep growing out to the farthest image corner; where it turns back
 // the model folds the image onto itself and pixels there have no unique ray.
 void check_distortion_does_not_fold(const CameraIntrinsics& intrinsics, const std::string& source) {
@@ -253,18 +270,13 @@ CameraFile parse_camera_text(const std::string& yaml_text, const std::string& so
     validate_mount(mount, source);
     camera.mount = mount;
   }
-  camera.intrinsics_calibration.avg_reprojection_error_px =
-      read_optional_real(root, "avg_reprojection_error", source, -1.0);
-  camera.intrinsics_calibration.views =
-      static_cast<int>(read_optional_real(root, "nr_of_frames", source, 0.0));
-  camera.intrinsics_calibration.date = read_string(root, "calibration_time");
-  camera.intrinsics_calibration.method = read_string(root, "calibration_method");
-  camera.mount_calibration.avg_reprojection_error_px =
-      read_optional_real(root, "mount_reprojection_error_px", source, -1.0);
-  camera.mount_calibration.views =
-      static_cast<int>(read_optional_real(root, "mount_views", source, 0.0));
-  camera.mount_calibration.date = read_string(root, "mount_calibration_time");
-  camera.mount_calibration.method = read_string(root, "mount_calibration_method");
+  camera.intrinsics_calibration = read_calibration_info(
+      root, source,
+      {"avg_reprojection_error", "nr_of_frames", "calibration_time", "calibration_method"});
+  camera.mount_calibration =
+      read_calibration_info(root, source,
+                            {"mount_reprojection_error_px", "mount_views", "mount_calibration_time",
+                             "mount_calibration_method"});
   return camera;
 }
 

@@ -24,15 +24,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-Scene scene_of(const Scenario& s) {
-  Scene scene;
-  scene.tapes.push_back(s.tape);
-  scene.floor = s.floor;
-  scene.effects = s.effects;
-  scene.seed = s.seed;
-  return scene;
-}
-
 // Vehicle pose at the start: at arc length start_s_m, offset and turned by the initial errors.
 Pose2 start_pose(const Scenario& s) {
   const Eigen::Vector2d foot = s.path.point_at(s.start_s_m);
@@ -101,7 +92,7 @@ std::unique_ptr<control::PathController> make_controller(const Scenario& scenari
 RunResult run_lockstep(const Scenario& s, const Progress& progress) {
   const Clock::time_point wall_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
-  const FrameRenderer renderer(camera, scene_of(s));
+  const FrameRenderer renderer(camera, render_scene(s));
   const perception::LineEstimator estimator(camera, perception_options(s));
   control::LineTracker tracker = make_tracker(s);
   Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
@@ -160,7 +151,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   // Built before the clock starts: their set-up (floor map, texture) is not part of the run.
   const Clock::time_point setup_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
-  const FrameRenderer renderer(camera, scene_of(s));
+  const FrameRenderer renderer(camera, render_scene(s));
   const perception::LineEstimator estimator(camera, perception_options(s));
   const double setup_wall_s = seconds_since(setup_start);
   const Clock::time_point wall_start = Clock::now();

@@ -213,6 +213,15 @@ Scenario load_scenario(const ScenarioText& source,
   return s;
 }
 
+Scene render_scene(const Scenario& scenario) {
+  Scene scene;
+  scene.tapes.push_back(scenario.tape);
+  scene.floor = scenario.floor;
+  scene.effects = scenario.effects;
+  scene.seed = scenario.seed;
+  return scene;
+}
+
 perception::LineEstimator::Options perception_options(const Scenario& scenario) {
   perception::LineEstimator::Options options;
   options.tape.width_m = scenario.tape.width_m;

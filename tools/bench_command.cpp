@@ -66,12 +66,7 @@ int run_bench(const BenchArgs& args) {
   const pipeline::Scenario scenario = pipeline::load_scenario(source, {});
   const perception::CameraModel camera =
       perception::camera_model_of(scenario.camera, scenario.camera_name);
-  pipeline::Scene scene;
-  scene.tapes.push_back(scenario.tape);
-  scene.floor = scenario.floor;
-  scene.effects = scenario.effects;
-  scene.seed = scenario.seed;
-  const pipeline::FrameRenderer renderer(camera, scene);
+  const pipeline::FrameRenderer renderer(camera, pipeline::render_scene(scenario));
   const perception::LineEstimator estimator(camera, pipeline::perception_options(scenario));
   control::LineTracker::Options tracker_options;
   tracker_options.path_speed_m_s = scenario.path_speed_m_s;
