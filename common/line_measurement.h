@@ -14,6 +14,8 @@ struct LineMeasurement {
   double confidence = 0.0;     // 0 (no evidence) .. 1 (strong evidence)
   int points_used = 0;         // centre-line points that support the fit
   double tape_width_m = 0.0;   // measured width of the tape
+  int lines_seen = 0;           // guide lines in view (junctions, forks, crossings: more than 1)
+  bool junction_ahead = false;  // lines meet in view
 };
 
 }  // namespace agv

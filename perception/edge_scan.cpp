@@ -15,105 +15,117 @@ float median_of(const float* first, const float* last, std::vector<float>* scrat
 }
 
 // Contrast samples along a line of pixels starting at `first`, `stride` bytes apart.
-void sample_contrast(const unsigned char* first, size_t stride, int count, int channels,
-                     const ContrastAxis& axis, std::vector<float>* out) {
+void sample_contrast(const unsigned char* first, size_t stride, int count, int channels, const ContrastAxis& axis,
+                     std::vector<float>* out) {
   out->resize(count);
   for (int i = 0; i < count; ++i) {
     const unsigned char* p = first + i * stride;
-    (*out)[i] =
-        channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
+    (*out)[i] = channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
   }
+}
+
+struct Run {
+  int lo, hi;  // downsampled coordinates along the scan line, inclusive
+};
+
+// Runs of `label` on one downsampled scan line; gaps of one sample are bridged.
+void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int label, std::vector<Run>* runs) {
+  runs->clear();
+  const int count = along_rows ? labels.cols : labels.rows;
+  int start = -1, last = -10;
+  for (int i = 0; i < count; ++i) {
+    const int value = along_rows ? labels.at<int>(small_line, i) : labels.at<int>(i, small_line);
+    if (value != label) continue;
+    if (i - last > 2) {
+      if (start >= 0) runs->push_back({start, last});
+      start = i;
+    }
+    last = i;
+  }
+  if (start >= 0) runs->push_back({start, last});
 }
 
 }  // namespace
 
-std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
-                                      const TapeRegions& coarse, const TapeRegion& region,
-                                      const EdgeScanOptions& options) {
+std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis, const TapeRegions& coarse,
+                                      const TapeRegion& region, bool along_rows, const EdgeScanOptions& options) {
   std::vector<EdgePair> edges;
   const int ds = coarse.downsample;
-  const bool along_rows = std::abs(region.direction.y) >= std::abs(region.direction.x);
   const int channels = frame.channels();
   const size_t pixel_bytes = frame.elemSize();
   const int line_length = along_rows ? frame.cols : frame.rows;  // samples on one scan line
+  const int line_count = along_rows ? frame.rows : frame.cols;
   const cv::Rect& box = region.box_small;
   const int first_line = (along_rows ? box.y : box.x) * ds;
-  const int last_line =
-      std::min((along_rows ? box.br().y : box.br().x) * ds, along_rows ? frame.rows : frame.cols) -
-      1;
+  const int last_line = std::min((along_rows ? box.br().y : box.br().x) * ds, line_count) - 1;
   const cv::Mat& labels = coarse.labels_small;
+  const int small_lines = along_rows ? labels.rows : labels.cols;
+  const int reach = std::max(options.margin_px, options.flank_px);
+  const int side = std::max(3, options.margin_px / 2);
+  const float min_contrast = options.min_contrast_to_noise * std::max(coarse.floor_noise, 0.01f);
   std::vector<float> raw, profile, scratch;
+  std::vector<Run> runs;
 
   for (int line = first_line; line <= last_line; line += options.step) {
-    // Extent of the region on this line, from the coarse labels.
-    const int small_line = std::min(line / ds, along_rows ? labels.rows - 1 : labels.cols - 1);
-    int lo_small = -1, hi_small = -1;
-    const int small_count = along_rows ? labels.cols : labels.rows;
-    for (int i = 0; i < small_count; ++i) {
-      const int label = along_rows ? labels.at<int>(small_line, i) : labels.at<int>(i, small_line);
-      if (label != region.label) continue;
-      if (lo_small < 0) lo_small = i;
-      hi_small = i;
+    runs_on_line(labels, std::min(line / ds, small_lines - 1), along_rows, region.label, &runs);
+    for (const Run& run : runs) {
+      const int lo = run.lo * ds - reach;
+      const int hi = run.hi * ds + ds - 1 + reach;
+      if (lo < 0 || hi >= line_length) continue;  // no floor on one side: the edge is unknowable
+      const int count = hi - lo + 1;
+      const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes
+                                              : frame.ptr<unsigned char>(lo) + line * pixel_bytes;
+      const size_t stride = along_rows ? pixel_bytes : frame.step[0];
+      sample_contrast(first, stride, count, channels, axis, &raw);
+      // A symmetric [1 2 1] / 4 smoothing lowers noise without moving a symmetric edge.
+      profile.resize(count);
+      profile[0] = raw[0];
+      profile[count - 1] = raw[count - 1];
+      for (int i = 1; i + 1 < count; ++i) profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
+
+      const float floor_first = median_of(profile.data(), profile.data() + side, &scratch);
+      const float floor_second = median_of(profile.data() + count - side, profile.data() + count, &scratch);
+      // The peak is searched over the run itself, not the flanks (which may hold other tape).
+      const int run_lo = std::max(0, run.lo * ds - lo), run_hi = std::min(count - 1, run.hi * ds + ds - 1 - lo);
+      const int peak = static_cast<int>(std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) -
+                                        profile.begin());
+      // Tape level: mean of the samples in the upper half between floor and peak. It sets the
+      // threshold of both edges alike, so its error moves them apart or together and leaves
+      // their midpoint, the centre line, where it is: a mean is precise enough.
+      const float floor_level = 0.5f * (floor_first + floor_second);
+      const float upper = 0.5f * (floor_level + profile[peak]);
+      float tape_sum = 0.0f;
+      int tape_count = 0;
+      for (int i = run_lo; i <= run_hi; ++i) {
+        if (profile[i] <= upper) continue;
+        tape_sum += profile[i];
+        ++tape_count;
+      }
+      const float tape_level = tape_sum / std::max(1, tape_count);
+      const float contrast = tape_level - floor_level;
+      if (contrast < min_contrast) continue;
+
+      // Walk outwards from the peak to the half-way crossings, each against its own floor level.
+      const float threshold_first = 0.5f * (floor_first + tape_level);
+      const float threshold_second = 0.5f * (floor_second + tape_level);
+      int i = peak;
+      while (i > 0 && profile[i] >= threshold_first) --i;
+      if (i < side / 2) continue;
+      const float first_pos = i + (threshold_first - profile[i]) / (profile[i + 1] - profile[i]);
+      int j = peak;
+      while (j < count - 1 && profile[j] >= threshold_second) ++j;
+      if (j > count - 1 - side / 2) continue;
+      const float second_pos = j - (threshold_second - profile[j]) / (profile[j - 1] - profile[j]);
+
+      EdgePair pair;
+      pair.contrast = contrast;
+      pair.along_rows = along_rows;
+      const float a = lo + first_pos, b = lo + second_pos;
+      const float l = static_cast<float>(line);
+      pair.first_px = along_rows ? cv::Point2f(a, l) : cv::Point2f(l, a);
+      pair.second_px = along_rows ? cv::Point2f(b, l) : cv::Point2f(l, b);
+      edges.push_back(pair);
     }
-    if (lo_small < 0) continue;
-    const int reach = std::max(options.margin_px, options.flank_px);
-    const int lo = lo_small * ds - reach;
-    const int hi = hi_small * ds + ds - 1 + reach;
-    if (lo < 0 || hi >= line_length) continue;  // no floor on one side: the edge is unknowable
-    const int count = hi - lo + 1;
-    const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes
-                                            : frame.ptr<unsigned char>(lo) + line * pixel_bytes;
-    const size_t stride = along_rows ? pixel_bytes : frame.step[0];
-    sample_contrast(first, stride, count, channels, axis, &raw);
-    // A symmetric [1 2 1] / 4 smoothing lowers noise without moving a symmetric edge.
-    profile.resize(count);
-    profile[0] = raw[0];
-    profile[count - 1] = raw[count - 1];
-    for (int i = 1; i + 1 < count; ++i)
-      profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
-
-    const int side = std::max(3, options.margin_px / 2);
-    const float floor_first = median_of(profile.data(), profile.data() + side, &scratch);
-    const float floor_second =
-        median_of(profile.data() + count - side, profile.data() + count, &scratch);
-    const int peak =
-        static_cast<int>(std::max_element(profile.begin(), profile.end()) - profile.begin());
-    // Tape level: mean of the samples in the upper half between floor and peak. It sets the
-    // threshold of both edges alike, so its error moves them apart or together and leaves
-    // their midpoint, the centre line, where it is: a mean is precise enough.
-    const float floor_level = 0.5f * (floor_first + floor_second);
-    const float upper = 0.5f * (floor_level + profile[peak]);
-    float tape_sum = 0.0f;
-    int tape_count = 0;
-    for (float v : profile) {
-      if (v <= upper) continue;
-      tape_sum += v;
-      ++tape_count;
-    }
-    const float tape_level = tape_sum / std::max(1, tape_count);
-    const float contrast = tape_level - floor_level;
-    if (contrast < options.min_contrast_to_noise * std::max(coarse.floor_noise, 0.01f)) continue;
-
-    // Walk outwards from the peak to the half-way crossings, each against its own floor level.
-    const float threshold_first = 0.5f * (floor_first + tape_level);
-    const float threshold_second = 0.5f * (floor_second + tape_level);
-    int i = peak;
-    while (i > 0 && profile[i] >= threshold_first) --i;
-    if (i == 0 || i < side / 2) continue;
-    const float first_pos = i + (threshold_first - profile[i]) / (profile[i + 1] - profile[i]);
-    int j = peak;
-    while (j < count - 1 && profile[j] >= threshold_second) ++j;
-    if (j == count - 1 || j > count - 1 - side / 2) continue;
-    const float second_pos = j - (threshold_second - profile[j]) / (profile[j - 1] - profile[j]);
-
-    EdgePair pair;
-    pair.contrast = contrast;
-    const float a = lo + first_pos, b = lo + second_pos;
-    pair.first_px = along_rows ? cv::Point2f(a, static_cast<float>(line))
-                               : cv::Point2f(static_cast<float>(line), a);
-    pair.second_px = along_rows ? cv::Point2f(b, static_cast<float>(line))
-                                : cv::Point2f(static_cast<float>(line), b);
-    edges.push_back(pair);
   }
   return edges;
 }

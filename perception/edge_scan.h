@@ -14,22 +14,22 @@ struct EdgePair {
   cv::Point2f first_px;
   cv::Point2f second_px;
   float contrast = 0.0f;  // tape level minus floor level on this scan line
+  bool along_rows = true;
 };
 
 struct EdgeScanOptions {
-  int margin_px = 8;  // floor samples taken beyond the coarse region on each side
-  int flank_px = 0;   // and at least this far (set to the tape width in pixels:
-                      // the coarse bar response covers only the tape's core)
+  int margin_px = 8;                 // floor samples taken beyond the coarse region on each side
+  int flank_px = 0;                  // and at least this far (set from the tape width in pixels:
+                                     // the coarse bar response covers only the tape's core)
   float min_contrast_to_noise = 5.0f;
-  int step = 1;  // scan every step-th line
+  int step = 1;                      // scan every step-th line
 };
 
-// Scans one coarse region at full resolution along rows (regions closer to vertical in the image)
-// or columns, and finds on each scan line the two places where the contrast crosses half-way
-// between the local floor level (each side separately) and the local tape level. Half-way
-// crossings of a blurred, symmetric edge sit on the true edge.
-std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
-                                      const TapeRegions& coarse, const TapeRegion& region,
-                                      const EdgeScanOptions& options);
+// Scans one coarse region at full resolution along rows (along_rows) or columns. Every run of
+// the region on a scan line is one crossing of the tape: around it, the two places where the
+// contrast crosses half-way between the local floor level (each side separately) and the local
+// tape level. Half-way crossings of a blurred, symmetric edge sit on the true edge.
+std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis, const TapeRegions& coarse,
+                                      const TapeRegion& region, bool along_rows, const EdgeScanOptions& options);
 
 }  // namespace agv::perception

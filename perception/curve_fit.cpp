@@ -1,0 +1,267 @@
+#include "perception/curve_fit.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <opencv2/core.hpp>
+
+#include "common/angles.h"
+
+namespace agv::perception {
+namespace {
+
+// Model from a point on a line and its direction.
+CurveModel line_model(const Eigen::Vector2d& point, Eigen::Vector2d direction) {
+  direction.normalize();
+  CurveModel m;
+  m.heading_rad = std::atan2(direction.y(), direction.x());
+  m.e_d_m = direction.y() * point.x() - direction.x() * point.y();
+  m.curvature_1_m = 0.0;
+  return m;
+}
+
+// Orients a model so that its direction near `near` points along `forward`.
+CurveModel oriented(const CurveModel& m, const Eigen::Vector2d& near, const Eigen::Vector2d& forward) {
+  const double s = m.arc_position(near);
+  const Eigen::Vector2d ahead = m.point_at(s + 1e-3) - m.point_at(s - 1e-3);
+  return ahead.dot(forward) >= 0.0 ? m : m.reversed();
+}
+
+struct Scored {
+  std::vector<bool> inliers;
+  int count = 0;
+  double rms = 0.0;
+};
+
+Scored score(const CurveModel& m, const std::vector<Eigen::Vector2d>& points, const std::vector<bool>* mask,
+             double threshold) {
+  Scored s;
+  s.inliers.assign(points.size(), false);
+  double sum = 0.0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (mask && !(*mask)[i]) continue;
+    const double d = m.signed_distance(points[i]);
+    if (std::abs(d) > threshold) continue;
+    s.inliers[i] = true;
+    ++s.count;
+    sum += d * d;
+  }
+  s.rms = s.count ? std::sqrt(sum / s.count) : 0.0;
+  return s;
+}
+
+// Weighted Gauss-Newton on (e_d, heading, curvature) or (e_d, heading) with the curvature held.
+// Returns the normal matrix of the last step (for the covariance).
+Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& use,
+                       bool free_curvature, double scale) {
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
+  for (int iteration = 0; iteration < 8; ++iteration) {
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    const double h[3] = {1e-6, 1e-6, 1e-4};
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!use[i]) continue;
+      const double r = m->signed_distance(points[i]);
+      Eigen::Vector3d j;
+      for (int k = 0; k < 3; ++k) {
+        CurveModel plus = *m;
+        double* parameter = k == 0 ? &plus.e_d_m : k == 1 ? &plus.heading_rad : &plus.curvature_1_m;
+        *parameter += h[k];
+        j[k] = (plus.signed_distance(points[i]) - r) / h[k];
+      }
+      if (!free_curvature) j[2] = 0.0;
+      const double w = 1.0 / (1.0 + (r / scale) * (r / scale));  // Cauchy weight
+      jtj += w * j * j.transpose();
+      jtr += w * j * r;
+    }
+    if (!free_curvature) jtj(2, 2) = 1.0;
+    normal = jtj;
+    const Eigen::Vector3d step = jtj.ldlt().solve(-jtr);
+    if (!step.allFinite()) break;
+    m->e_d_m += step[0];
+    m->heading_rad = wrap_angle_rad(m->heading_rad + step[1]);
+    if (free_curvature) m->curvature_1_m += step[2];
+    if (step.head<2>().norm() < 1e-10 && std::abs(step[2]) < 1e-8) break;
+  }
+  return normal;
+}
+
+// Factor by which correlated residuals inflate a variance computed as if they were independent:
+// 1 + 2 * sum of the residuals' autocorrelation over neighbours along the curve (the integrated
+// autocorrelation time), summed until it falls below 0.05.
+double correlation_inflation(const CurveModel& m, const std::vector<Eigen::Vector2d>& points,
+                             const std::vector<bool>& inliers) {
+  std::vector<std::pair<double, double>> by_position;  // (arc position, residual)
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (inliers[i]) by_position.emplace_back(m.arc_position(points[i]), m.signed_distance(points[i]));
+  }
+  std::sort(by_position.begin(), by_position.end());
+  const size_t n = by_position.size();
+  if (n < 8) return 1.0;
+  double mean = 0.0, variance = 0.0;
+  for (const auto& [s, r] : by_position) mean += r;
+  mean /= n;
+  for (const auto& [s, r] : by_position) variance += (r - mean) * (r - mean);
+  if (variance <= 0.0) return 1.0;
+  double tau = 1.0;
+  for (size_t lag = 1; lag < n / 4; ++lag) {
+    double sum = 0.0;
+    for (size_t i = 0; i + lag < n; ++i) sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
+    const double rho = sum / variance;
+    if (rho < 0.05) break;
+    tau += 2.0 * rho;
+  }
+  return tau;
+}
+
+}  // namespace
+
+Eigen::Vector2d CurveModel::tangent() const { return {std::cos(heading_rad), std::sin(heading_rad)}; }
+Eigen::Vector2d CurveModel::normal() const { return {-std::sin(heading_rad), std::cos(heading_rad)}; }
+Eigen::Vector2d CurveModel::foot_point() const { return -e_d_m * normal(); }
+
+double CurveModel::signed_distance(const Eigen::Vector2d& p) const {
+  const Eigen::Vector2d q = p - foot_point();
+  const double u = q.dot(normal());
+  const double r2 = q.squaredNorm();
+  const double k = curvature_1_m;
+  const double root = std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2));
+  return (2.0 * u - k * r2) / (1.0 + root);
+}
+
+double CurveModel::arc_position(const Eigen::Vector2d& p) const {
+  const Eigen::Vector2d q = p - foot_point();
+  const double along = q.dot(tangent());
+  const double k = curvature_1_m;
+  if (std::abs(k) < 1e-9) return along;
+  // Angle swept around the centre from the foot point to the ray through p.
+  const double across = q.dot(normal());
+  const double swept = std::atan2(k * along, 1.0 - k * across);
+  return swept / k;
+}
+
+Eigen::Vector2d CurveModel::point_at(double s_m) const {
+  const double k = curvature_1_m;
+  if (std::abs(k) < 1e-9) return foot_point() + s_m * tangent();
+  const double angle = k * s_m;
+  return foot_point() + (std::sin(angle) / k) * tangent() + ((1.0 - std::cos(angle)) / k) * normal();
+}
+
+CurveModel CurveModel::reversed() const {
+  return {-e_d_m, wrap_angle_rad(heading_rad + M_PI), -curvature_1_m};
+}
+
+std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                        const Eigen::Vector2d& c, const Eigen::Vector2d& forward) {
+  const Eigen::Vector2d ab = b - a, ac = c - a;
+  const double cross = ab.x() * ac.y() - ab.y() * ac.x();
+  const double span = std::max({ab.norm(), ac.norm(), (c - b).norm()});
+  if (span < 1e-6) return std::nullopt;
+  if (std::abs(cross) < 1e-9 * span * span) return oriented(line_model(a, c - a), b, forward);
+  // Circumcentre.
+  const double d = 2.0 * cross;
+  const double ab2 = ab.squaredNorm(), ac2 = ac.squaredNorm();
+  const Eigen::Vector2d centre = a + Eigen::Vector2d(ac.y() * ab2 - ab.y() * ac2, ab.x() * ac2 - ac.x() * ab2) / d;
+  const double radius = (a - centre).norm();
+  Eigen::Vector2d to_origin = -centre;
+  if (to_origin.norm() < 1e-12) return std::nullopt;  // the origin at the centre: no foot point
+  const Eigen::Vector2d foot = centre + radius * to_origin.normalized();
+  // Counter-clockwise tangent at the foot point; the curvature is positive (centre on the left).
+  const Eigen::Vector2d radial = (foot - centre).normalized();
+  const Eigen::Vector2d ccw(-radial.y(), radial.x());
+  CurveModel m;
+  m.heading_rad = std::atan2(ccw.y(), ccw.x());
+  m.curvature_1_m = 1.0 / radius;
+  m.e_d_m = -foot.dot(m.normal());
+  return oriented(m, b, forward);
+}
+
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
+                          const std::vector<bool>* mask) {
+  CurveFit fit;
+  std::vector<int> usable;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!mask || (*mask)[i]) usable.push_back(static_cast<int>(i));
+  }
+  const int n = static_cast<int>(usable.size());
+  if (n < 3) return fit;
+  // Score hypotheses on at most ~200 points; refine on all.
+  const int stride = std::max(1, n / 200);
+  const double t = options.inlier_threshold_m, t2 = t * t;
+  cv::RNG rng(0xC0FFEE);
+  double best_cost = std::numeric_limits<double>::infinity();
+  CurveModel best;
+  for (int it = 0; it < options.ransac_iterations; ++it) {
+    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)], c = usable[rng.uniform(0, n)];
+    std::optional<CurveModel> model;
+    if (it % 3 == 0) {  // a third of the hypotheses are lines (two points)
+      if ((points[c] - points[a]).norm() < 1e-4) continue;
+      model = oriented(line_model(points[a], points[c] - points[a]), points[a], options.forward);
+    } else {
+      model = curve_through(points[a], points[b], points[c], options.forward);
+    }
+    if (!model || std::abs(model->curvature_1_m) > options.max_curvature_1_m) continue;
+    double cost = 0.0;
+    for (int k = 0; k < n; k += stride) cost += std::min(std::pow(model->signed_distance(points[usable[k]]), 2), t2);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = *model;
+    }
+  }
+  if (!std::isfinite(best_cost)) return fit;
+
+  // Refine: curvature free, then kept only if significant.
+  Scored scored = score(best, points, mask, t);
+  CurveModel model = best;
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
+  for (int round = 0; round < 4 && scored.count >= 3; ++round) {
+    normal = refine(&model, points, scored.inliers, /*free_curvature=*/true, t / 2.0);
+    Scored next = score(model, points, mask, t);
+    const bool settled = next.inliers == scored.inliers;
+    scored = std::move(next);
+    if (settled) break;
+  }
+  if (scored.count < 3) return fit;
+  // Residuals along a tape are correlated (floor texture, wear span many scan lines): the
+  // independent-noise covariance is inflated by the integrated autocorrelation.
+  const double variance = std::max(scored.rms * scored.rms, 1e-12) *
+                          correlation_inflation(model, points, scored.inliers);
+  const Eigen::Matrix3d covariance = normal.inverse() * variance;
+  fit.curvature_sigma_1_m = std::sqrt(std::max(0.0, covariance(2, 2)));
+  fit.is_line = std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
+  if (fit.is_line) {
+    model.curvature_1_m = 0.0;
+    for (int round = 0; round < 3; ++round) {
+      refine(&model, points, scored.inliers, /*free_curvature=*/false, t / 2.0);
+      Scored next = score(model, points, mask, t);
+      const bool settled = next.inliers == scored.inliers;
+      scored = std::move(next);
+      if (settled || scored.count < 3) break;
+    }
+  }
+  if (scored.count < 3) return fit;
+  // Orientation from the inliers' middle.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (scored.inliers[i]) centroid += points[i];
+  }
+  centroid /= scored.count;
+  model = oriented(model, centroid, options.forward);
+  fit.ok = true;
+  fit.model = model;
+  fit.inliers = scored.inliers;
+  fit.inlier_count = scored.count;
+  fit.rms_m = scored.rms;
+  fit.s_min_m = std::numeric_limits<double>::infinity();
+  fit.s_max_m = -fit.s_min_m;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!fit.inliers[i]) continue;
+    const double s = model.arc_position(points[i]);
+    fit.s_min_m = std::min(fit.s_min_m, s);
+    fit.s_max_m = std::max(fit.s_max_m, s);
+  }
+  return fit;
+}
+
+}  // namespace agv::perception

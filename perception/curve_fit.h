@@ -1,0 +1,71 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace agv::perception {
+
+// A guide line near the vehicle as a circular arc (a straight line when curvature is 0), given
+// by what a controller wants to know about it, in the vehicle frame V (DESIGN.md):
+//   e_d_m          signed distance of the vehicle origin from the curve (positive: the vehicle
+//                  is on the curve's left, seen along its direction),
+//   heading_rad    direction of the curve at the foot point F of the origin (its yaw in V,
+//                  so e_theta = -heading_rad),
+//   curvature_1_m  signed curvature (positive: the curve turns left).
+// F = -e_d n, n = (-sin heading, cos heading). The parametrisation has no singularity at zero
+// curvature, so one model serves lines and arcs.
+struct CurveModel {
+  double e_d_m = 0.0;
+  double heading_rad = 0.0;
+  double curvature_1_m = 0.0;
+
+  Eigen::Vector2d foot_point() const;
+  Eigen::Vector2d tangent() const;  // unit, at the foot point
+  Eigen::Vector2d normal() const;   // unit, left of the tangent
+  // Signed distance of p from the curve, positive on its left:
+  //   d = (2u - k r^2) / (1 + sqrt(1 - 2ku + k^2 r^2)),  q = p - F, u = q . n, r = |q|,
+  // which is exactly (1/k) - sign(k) |p - centre| and tends to u as k -> 0.
+  double signed_distance(const Eigen::Vector2d& p) const;
+  // Arc length from the foot point to the point of the curve nearest p (along the tangent
+  // direction; for a line, the projection on it).
+  double arc_position(const Eigen::Vector2d& p) const;
+  // Point of the curve at arc length s from the foot point.
+  Eigen::Vector2d point_at(double s_m) const;
+  // The same curve travelled the other way.
+  CurveModel reversed() const;
+};
+
+struct CurveFit {
+  bool ok = false;
+  CurveModel model;
+  std::vector<bool> inliers;
+  int inlier_count = 0;
+  double rms_m = 0.0;              // residual RMS of the inliers
+  double curvature_sigma_1_m = 0.0;  // standard deviation of the curvature from the fit
+  double s_min_m = 0.0, s_max_m = 0.0;  // extent of the inliers along the curve
+  bool is_line = true;             // curvature not significant: fitted as a straight line
+};
+
+struct CurveFitOptions {
+  double inlier_threshold_m = 0.0015;
+  int ransac_iterations = 120;
+  double curvature_significance = 3.0;  // keep a curvature only beyond this many sigmas
+  double max_curvature_1_m = 10.0;      // arcs tighter than 0.1 m radius are not tape paths
+  // Orientation of the result: the curve's direction at the inliers has a positive component
+  // along this vector (vehicle frame; default: forward).
+  Eigen::Vector2d forward = Eigen::Vector2d::UnitX();
+};
+
+// Robust fit of one curve to points (vehicle frame, metres): RANSAC on three-point circles and
+// two-point lines, scored by the truncated quadratic loss, then Gauss-Newton on the signed
+// distances of the inliers (Cauchy weights), the inlier set re-taken until it settles.
+// `mask` (optional) marks the points that may be used.
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
+                          const std::vector<bool>* mask = nullptr);
+
+// The curve through three points (a line when they are collinear), oriented along `forward`.
+std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                        const Eigen::Vector2d& c, const Eigen::Vector2d& forward);
+
+}  // namespace agv::perception

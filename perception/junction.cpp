@@ -1,0 +1,134 @@
+#include "perception/junction.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/angles.h"
+#include "common/input_error.h"
+
+namespace agv::perception {
+namespace {
+
+// Direction of a curve at arc position s.
+double heading_at(const CurveModel& m, double s) {
+  const Eigen::Vector2d d = m.point_at(s + 1e-4) - m.point_at(s - 1e-4);
+  return std::atan2(d.y(), d.x());
+}
+
+// Arc position on `a` where it crosses `b`, searched over [s0, s1]; nullopt if it does not.
+std::optional<double> crossing(const CurveModel& a, const CurveModel& b, double s0, double s1) {
+  constexpr double kStep = 0.002;
+  double previous_s = s0, previous_d = b.signed_distance(a.point_at(s0));
+  for (double s = s0 + kStep; s <= s1 + 1e-12; s += kStep) {
+    const double d = b.signed_distance(a.point_at(s));
+    if ((d <= 0.0) != (previous_d <= 0.0)) {
+      return previous_s + kStep * previous_d / (previous_d - d);  // linear in between
+    }
+    previous_s = s;
+    previous_d = d;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+BranchChoice parse_branch_choice(const std::string& word) {
+  if (word == "left") return BranchChoice::kLeft;
+  if (word == "straight") return BranchChoice::kStraight;
+  if (word == "right") return BranchChoice::kRight;
+  throw InputError("branch '" + word + "': expected left, straight or right");
+}
+
+const char* branch_choice_name(BranchChoice choice) {
+  return choice == BranchChoice::kLeft ? "left" : choice == BranchChoice::kRight ? "right" : "straight";
+}
+
+std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m, double min_branch_m) {
+  std::optional<Junction> nearest;
+  double nearest_distance = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < lines.size(); ++i) {
+    for (size_t j = i + 1; j < lines.size(); ++j) {
+      const DetectedLine& a = lines[i];
+      const DetectedLine& b = lines[j];
+      const std::optional<double> s_a = crossing(a.model, b.model, a.s_min_m - margin_m, a.s_max_m + margin_m);
+      if (!s_a) continue;
+      const Eigen::Vector2d point = a.model.point_at(*s_a);
+      const double s_b = b.model.arc_position(point);
+      if (s_b < b.s_min_m - margin_m || s_b > b.s_max_m + margin_m) continue;
+      if (point.norm() >= nearest_distance) continue;
+      Junction junction;
+      junction.point_m = point;
+      for (const auto& [index, s] : {std::pair<int, double>{static_cast<int>(i), *s_a}, {static_cast<int>(j), s_b}}) {
+        const DetectedLine& line = lines[index];
+        if (line.s_max_m - s >= min_branch_m) {
+          junction.branches.push_back({index, heading_at(line.model, s), line.s_max_m - s});
+        }
+        if (s - line.s_min_m >= min_branch_m) {
+          junction.branches.push_back({index, wrap_angle_rad(heading_at(line.model, s) + M_PI), s - line.s_min_m});
+        }
+      }
+      // The vehicle arrives on the branch pointing most nearly back at it.
+      double best = std::numeric_limits<double>::infinity();
+      for (size_t k = 0; k < junction.branches.size(); ++k) {
+        const Eigen::Vector2d direction(std::cos(junction.branches[k].heading_rad),
+                                        std::sin(junction.branches[k].heading_rad));
+        const double towards = direction.dot(point.normalized());  // -1: straight back at us
+        if (towards < best) {
+          best = towards;
+          junction.incoming = static_cast<int>(k);
+        }
+      }
+      if (best > -0.5) junction.incoming = -1;  // nothing comes from the vehicle's side
+      nearest_distance = point.norm();
+      nearest = junction;
+    }
+  }
+  return nearest;
+}
+
+FollowedLine choose_line(const std::vector<DetectedLine>& lines, const std::optional<Junction>& junction,
+                         BranchChoice choice, double max_turn_rad) {
+  FollowedLine followed;
+  if (lines.empty()) return followed;
+  // Without a junction: the most confident line.
+  auto best_line = [&] {
+    int best = 0;
+    for (int i = 1; i < static_cast<int>(lines.size()); ++i) {
+      if (lines[i].confidence > lines[best].confidence) best = i;
+    }
+    return best;
+  };
+  if (!junction || junction->branches.size() < 2) {
+    followed.line = best_line();
+    followed.model = lines[followed.line].model;
+    return followed;
+  }
+  int chosen = -1;
+  double best_score = -std::numeric_limits<double>::infinity();
+  for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
+    if (k == junction->incoming) continue;
+    const double h = junction->branches[k].heading_rad;
+    const double score = choice == BranchChoice::kLeft ? h : choice == BranchChoice::kRight ? -h : -std::abs(h);
+    if (score > best_score) {
+      best_score = score;
+      chosen = k;
+    }
+  }
+  const Branch* branch = chosen >= 0 ? &junction->branches[chosen] : nullptr;
+  if (branch && (std::abs(branch->heading_rad) <= max_turn_rad || junction->incoming < 0)) {
+    // Follow the branch, in its direction away from the junction.
+    followed.line = branch->line;
+    const CurveModel& m = lines[branch->line].model;
+    const double s = m.arc_position(junction->point_m);
+    const double along = std::cos(wrap_angle_rad(heading_at(m, s) - branch->heading_rad));
+    followed.model = along >= 0.0 ? m : m.reversed();
+    return followed;
+  }
+  // A sharp turn ahead: keep to the incoming line (oriented forward) until it is reached.
+  followed.line = junction->incoming >= 0 ? junction->branches[junction->incoming].line : best_line();
+  followed.model = lines[followed.line].model;
+  return followed;
+}
+
+}  // namespace agv::perception
