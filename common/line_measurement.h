@@ -10,10 +10,10 @@ struct LineMeasurement {
   bool line_found = false;  // false: the other fields carry no line
   double e_theta_rad = 0.0;
   double e_d_m = 0.0;
-  double curvature_1_m = 0.0;  // path curvature at the foot point (left turn positive)
-  double confidence = 0.0;     // 0 (no evidence) .. 1 (strong evidence)
-  int points_used = 0;         // centre-line points that support the fit
-  double tape_width_m = 0.0;   // measured width of the tape
+  double curvature_1_m = 0.0;   // path curvature at the foot point (left turn positive)
+  double confidence = 0.0;      // 0 (no evidence) .. 1 (strong evidence)
+  int points_used = 0;          // centre-line points that support the fit
+  double tape_width_m = 0.0;    // measured width of the tape
   int lines_seen = 0;           // guide lines in view (junctions, forks, crossings: more than 1)
   bool junction_ahead = false;  // lines meet in view
 };

@@ -22,7 +22,8 @@ CurveModel line_model(const Eigen::Vector2d& point, Eigen::Vector2d direction) {
 }
 
 // Orients a model so that its direction near `near` points along `forward`.
-CurveModel oriented(const CurveModel& m, const Eigen::Vector2d& near, const Eigen::Vector2d& forward) {
+CurveModel oriented(const CurveModel& m, const Eigen::Vector2d& near,
+                    const Eigen::Vector2d& forward) {
   const double s = m.arc_position(near);
   const Eigen::Vector2d ahead = m.point_at(s + 1e-3) - m.point_at(s - 1e-3);
   return ahead.dot(forward) >= 0.0 ? m : m.reversed();
@@ -34,8 +35,8 @@ struct Scored {
   double rms = 0.0;
 };
 
-Scored score(const CurveModel& m, const std::vector<Eigen::Vector2d>& points, const std::vector<bool>* mask,
-             double threshold) {
+Scored score(const CurveModel& m, const std::vector<Eigen::Vector2d>& points,
+             const std::vector<bool>* mask, double threshold) {
   Scored s;
   s.inliers.assign(points.size(), false);
   double sum = 0.0;
@@ -53,8 +54,8 @@ Scored score(const CurveModel& m, const std::vector<Eigen::Vector2d>& points, co
 
 // Weighted Gauss-Newton on (e_d, heading, curvature) or (e_d, heading) with the curvature held.
 // Returns the normal matrix of the last step (for the covariance).
-Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points, const std::vector<bool>& use,
-                       bool free_curvature, double scale) {
+Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points,
+                       const std::vector<bool>& use, bool free_curvature, double scale) {
   Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
   for (int iteration = 0; iteration < 8; ++iteration) {
     Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
@@ -94,7 +95,8 @@ double correlation_inflation(const CurveModel& m, const std::vector<Eigen::Vecto
                              const std::vector<bool>& inliers) {
   std::vector<std::pair<double, double>> by_position;  // (arc position, residual)
   for (size_t i = 0; i < points.size(); ++i) {
-    if (inliers[i]) by_position.emplace_back(m.arc_position(points[i]), m.signed_distance(points[i]));
+    if (inliers[i])
+      by_position.emplace_back(m.arc_position(points[i]), m.signed_distance(points[i]));
   }
   std::sort(by_position.begin(), by_position.end());
   const size_t n = by_position.size();
@@ -107,7 +109,8 @@ double correlation_inflation(const CurveModel& m, const std::vector<Eigen::Vecto
   double tau = 1.0;
   for (size_t lag = 1; lag < n / 4; ++lag) {
     double sum = 0.0;
-    for (size_t i = 0; i + lag < n; ++i) sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
+    for (size_t i = 0; i + lag < n; ++i)
+      sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
     const double rho = sum / variance;
     if (rho < 0.05) break;
     tau += 2.0 * rho;
@@ -117,8 +120,12 @@ double correlation_inflation(const CurveModel& m, const std::vector<Eigen::Vecto
 
 }  // namespace
 
-Eigen::Vector2d CurveModel::tangent() const { return {std::cos(heading_rad), std::sin(heading_rad)}; }
-Eigen::Vector2d CurveModel::normal() const { return {-std::sin(heading_rad), std::cos(heading_rad)}; }
+Eigen::Vector2d CurveModel::tangent() const {
+  return {std::cos(heading_rad), std::sin(heading_rad)};
+}
+Eigen::Vector2d CurveModel::normal() const {
+  return {-std::sin(heading_rad), std::cos(heading_rad)};
+}
 Eigen::Vector2d CurveModel::foot_point() const { return -e_d_m * normal(); }
 
 double CurveModel::signed_distance(const Eigen::Vector2d& p) const {
@@ -145,7 +152,8 @@ Eigen::Vector2d CurveModel::point_at(double s_m) const {
   const double k = curvature_1_m;
   if (std::abs(k) < 1e-9) return foot_point() + s_m * tangent();
   const double angle = k * s_m;
-  return foot_point() + (std::sin(angle) / k) * tangent() + ((1.0 - std::cos(angle)) / k) * normal();
+  return foot_point() + (std::sin(angle) / k) * tangent() +
+         ((1.0 - std::cos(angle)) / k) * normal();
 }
 
 CurveModel CurveModel::reversed() const {
@@ -162,7 +170,8 @@ std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::V
   // Circumcentre.
   const double d = 2.0 * cross;
   const double ab2 = ab.squaredNorm(), ac2 = ac.squaredNorm();
-  const Eigen::Vector2d centre = a + Eigen::Vector2d(ac.y() * ab2 - ab.y() * ac2, ab.x() * ac2 - ac.x() * ab2) / d;
+  const Eigen::Vector2d centre =
+      a + Eigen::Vector2d(ac.y() * ab2 - ab.y() * ac2, ab.x() * ac2 - ac.x() * ab2) / d;
   const double radius = (a - centre).norm();
   Eigen::Vector2d to_origin = -centre;
   if (to_origin.norm() < 1e-12) return std::nullopt;  // the origin at the centre: no foot point
@@ -177,8 +186,8 @@ std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::V
   return oriented(m, b, forward);
 }
 
-CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
-                          const std::vector<bool>* mask) {
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
+                          const CurveFitOptions& options, const std::vector<bool>* mask) {
   CurveFit fit;
   std::vector<int> usable;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -193,7 +202,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const Curv
   double best_cost = std::numeric_limits<double>::infinity();
   CurveModel best;
   for (int it = 0; it < options.ransac_iterations; ++it) {
-    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)], c = usable[rng.uniform(0, n)];
+    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)],
+              c = usable[rng.uniform(0, n)];
     std::optional<CurveModel> model;
     if (it % 3 == 0) {  // a third of the hypotheses are lines (two points)
       if ((points[c] - points[a]).norm() < 1e-4) continue;
@@ -203,7 +213,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const Curv
     }
     if (!model || std::abs(model->curvature_1_m) > options.max_curvature_1_m) continue;
     double cost = 0.0;
-    for (int k = 0; k < n; k += stride) cost += std::min(std::pow(model->signed_distance(points[usable[k]]), 2), t2);
+    for (int k = 0; k < n; k += stride)
+      cost += std::min(std::pow(model->signed_distance(points[usable[k]]), 2), t2);
     if (cost < best_cost) {
       best_cost = cost;
       best = *model;
@@ -229,7 +240,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const Curv
                           correlation_inflation(model, points, scored.inliers);
   const Eigen::Matrix3d covariance = normal.inverse() * variance;
   fit.curvature_sigma_1_m = std::sqrt(std::max(0.0, covariance(2, 2)));
-  fit.is_line = std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
+  fit.is_line =
+      std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
   if (fit.is_line) {
     model.curvature_1_m = 0.0;
     for (int round = 0; round < 3; ++round) {

@@ -41,10 +41,10 @@ struct CurveFit {
   CurveModel model;
   std::vector<bool> inliers;
   int inlier_count = 0;
-  double rms_m = 0.0;              // residual RMS of the inliers
-  double curvature_sigma_1_m = 0.0;  // standard deviation of the curvature from the fit
+  double rms_m = 0.0;                   // residual RMS of the inliers
+  double curvature_sigma_1_m = 0.0;     // standard deviation of the curvature from the fit
   double s_min_m = 0.0, s_max_m = 0.0;  // extent of the inliers along the curve
-  bool is_line = true;             // curvature not significant: fitted as a straight line
+  bool is_line = true;                  // curvature not significant: fitted as a straight line
 };
 
 struct CurveFitOptions {
@@ -61,8 +61,8 @@ struct CurveFitOptions {
 // two-point lines, scored by the truncated quadratic loss, then Gauss-Newton on the signed
 // distances of the inliers (Cauchy weights), the inlier set re-taken until it settles.
 // `mask` (optional) marks the points that may be used.
-CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
-                          const std::vector<bool>* mask = nullptr);
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
+                          const CurveFitOptions& options, const std::vector<bool>* mask = nullptr);
 
 // The curve through three points (a line when they are collinear), oriented along `forward`.
 std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,

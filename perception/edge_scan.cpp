@@ -15,12 +15,13 @@ float median_of(const float* first, const float* last, std::vector<float>* scrat
 }
 
 // Contrast samples along a line of pixels starting at `first`, `stride` bytes apart.
-void sample_contrast(const unsigned char* first, size_t stride, int count, int channels, const ContrastAxis& axis,
-                     std::vector<float>* out) {
+void sample_contrast(const unsigned char* first, size_t stride, int count, int channels,
+                     const ContrastAxis& axis, std::vector<float>* out) {
   out->resize(count);
   for (int i = 0; i < count; ++i) {
     const unsigned char* p = first + i * stride;
-    (*out)[i] = channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
+    (*out)[i] =
+        channels == 1 ? axis.apply(p[0]) : axis.apply(*reinterpret_cast<const cv::Vec3b*>(p));
   }
 }
 
@@ -29,7 +30,8 @@ struct Run {
 };
 
 // Runs of `label` on one downsampled scan line; gaps of one sample are bridged.
-void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int label, std::vector<Run>* runs) {
+void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int label,
+                  std::vector<Run>* runs) {
   runs->clear();
   const int count = along_rows ? labels.cols : labels.rows;
   int start = -1, last = -10;
@@ -47,8 +49,9 @@ void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int la
 
 }  // namespace
 
-std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis, const TapeRegions& coarse,
-                                      const TapeRegion& region, bool along_rows, const EdgeScanOptions& options) {
+std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                      const TapeRegions& coarse, const TapeRegion& region,
+                                      bool along_rows, const EdgeScanOptions& options) {
   std::vector<EdgePair> edges;
   const int ds = coarse.downsample;
   const int channels = frame.channels();
@@ -69,9 +72,11 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
   for (int line = first_line; line <= last_line; line += options.step) {
     runs_on_line(labels, std::min(line / ds, small_lines - 1), along_rows, region.label, &runs);
     for (const Run& run : runs) {
-      const int lo = run.lo * ds - reach;
-      const int hi = run.hi * ds + ds - 1 + reach;
-      if (lo < 0 || hi >= line_length) continue;  // no floor on one side: the edge is unknowable
+      // Up to `reach` beyond the run on each side, within the image; at least a few floor
+      // samples are needed beyond each edge, else the edge is unknowable.
+      const int lo = std::max(0, run.lo * ds - reach);
+      const int hi = std::min(line_length - 1, run.hi * ds + ds - 1 + reach);
+      if (run.lo * ds - lo < 2 * side || hi - (run.hi * ds + ds - 1) < 2 * side) continue;
       const int count = hi - lo + 1;
       const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes
                                               : frame.ptr<unsigned char>(lo) + line * pixel_bytes;
@@ -81,14 +86,18 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       profile.resize(count);
       profile[0] = raw[0];
       profile[count - 1] = raw[count - 1];
-      for (int i = 1; i + 1 < count; ++i) profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
+      for (int i = 1; i + 1 < count; ++i)
+        profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
 
       const float floor_first = median_of(profile.data(), profile.data() + side, &scratch);
-      const float floor_second = median_of(profile.data() + count - side, profile.data() + count, &scratch);
+      const float floor_second =
+          median_of(profile.data() + count - side, profile.data() + count, &scratch);
       // The peak is searched over the run itself, not the flanks (which may hold other tape).
-      const int run_lo = std::max(0, run.lo * ds - lo), run_hi = std::min(count - 1, run.hi * ds + ds - 1 - lo);
-      const int peak = static_cast<int>(std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) -
-                                        profile.begin());
+      const int run_lo = std::max(0, run.lo * ds - lo),
+                run_hi = std::min(count - 1, run.hi * ds + ds - 1 - lo);
+      const int peak = static_cast<int>(
+          std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) -
+          profile.begin());
       // Tape level: mean of the samples in the upper half between floor and peak. It sets the
       // threshold of both edges alike, so its error moves them apart or together and leaves
       // their midpoint, the centre line, where it is: a mean is precise enough.
@@ -110,11 +119,11 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       const float threshold_second = 0.5f * (floor_second + tape_level);
       int i = peak;
       while (i > 0 && profile[i] >= threshold_first) --i;
-      if (i < side / 2) continue;
+      if (i < side) continue;  // the crossing must lie beyond the floor samples
       const float first_pos = i + (threshold_first - profile[i]) / (profile[i + 1] - profile[i]);
       int j = peak;
       while (j < count - 1 && profile[j] >= threshold_second) ++j;
-      if (j > count - 1 - side / 2) continue;
+      if (j > count - 1 - side) continue;
       const float second_pos = j - (threshold_second - profile[j]) / (profile[j - 1] - profile[j]);
 
       EdgePair pair;

@@ -18,18 +18,19 @@ struct EdgePair {
 };
 
 struct EdgeScanOptions {
-  int margin_px = 8;                 // floor samples taken beyond the coarse region on each side
-  int flank_px = 0;                  // and at least this far (set from the tape width in pixels:
-                                     // the coarse bar response covers only the tape's core)
+  int margin_px = 8;  // floor samples taken beyond the coarse region on each side
+  int flank_px = 0;   // and at least this far (set from the tape width in pixels:
+                      // the coarse bar response covers only the tape's core)
   float min_contrast_to_noise = 5.0f;
-  int step = 1;                      // scan every step-th line
+  int step = 1;  // scan every step-th line
 };
 
 // Scans one coarse region at full resolution along rows (along_rows) or columns. Every run of
 // the region on a scan line is one crossing of the tape: around it, the two places where the
 // contrast crosses half-way between the local floor level (each side separately) and the local
 // tape level. Half-way crossings of a blurred, symmetric edge sit on the true edge.
-std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis, const TapeRegions& coarse,
-                                      const TapeRegion& region, bool along_rows, const EdgeScanOptions& options);
+std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                      const TapeRegions& coarse, const TapeRegion& region,
+                                      bool along_rows, const EdgeScanOptions& options);
 
 }  // namespace agv::perception

@@ -41,54 +41,98 @@ BranchChoice parse_branch_choice(const std::string& word) {
 }
 
 const char* branch_choice_name(BranchChoice choice) {
-  return choice == BranchChoice::kLeft ? "left" : choice == BranchChoice::kRight ? "right" : "straight";
+  return choice == BranchChoice::kLeft    ? "left"
+         : choice == BranchChoice::kRight ? "right"
+                                          : "straight";
 }
 
-std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m, double min_branch_m) {
-  std::optional<Junction> nearest;
-  double nearest_distance = std::numeric_limits<double>::infinity();
+std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m,
+                                      double min_branch_m, double min_open_branch_m) {
+  // Where pairs of lines cross within their evidence.
+  std::vector<Eigen::Vector2d> crossings;
   for (size_t i = 0; i < lines.size(); ++i) {
     for (size_t j = i + 1; j < lines.size(); ++j) {
       const DetectedLine& a = lines[i];
       const DetectedLine& b = lines[j];
-      const std::optional<double> s_a = crossing(a.model, b.model, a.s_min_m - margin_m, a.s_max_m + margin_m);
+      const std::optional<double> s_a =
+          crossing(a.model, b.model, a.s_min_m - margin_m, a.s_max_m + margin_m);
       if (!s_a) continue;
       const Eigen::Vector2d point = a.model.point_at(*s_a);
       const double s_b = b.model.arc_position(point);
       if (s_b < b.s_min_m - margin_m || s_b > b.s_max_m + margin_m) continue;
-      if (point.norm() >= nearest_distance) continue;
-      Junction junction;
-      junction.point_m = point;
-      for (const auto& [index, s] : {std::pair<int, double>{static_cast<int>(i), *s_a}, {static_cast<int>(j), s_b}}) {
-        const DetectedLine& line = lines[index];
-        if (line.s_max_m - s >= min_branch_m) {
-          junction.branches.push_back({index, heading_at(line.model, s), line.s_max_m - s});
-        }
-        if (s - line.s_min_m >= min_branch_m) {
-          junction.branches.push_back({index, wrap_angle_rad(heading_at(line.model, s) + M_PI), s - line.s_min_m});
-        }
-      }
-      // The vehicle arrives on the branch pointing most nearly back at it.
-      double best = std::numeric_limits<double>::infinity();
-      for (size_t k = 0; k < junction.branches.size(); ++k) {
-        const Eigen::Vector2d direction(std::cos(junction.branches[k].heading_rad),
-                                        std::sin(junction.branches[k].heading_rad));
-        const double towards = direction.dot(point.normalized());  // -1: straight back at us
-        if (towards < best) {
-          best = towards;
-          junction.incoming = static_cast<int>(k);
-        }
-      }
-      if (best > -0.5) junction.incoming = -1;  // nothing comes from the vehicle's side
-      nearest_distance = point.norm();
-      nearest = junction;
+      crossings.push_back(point);
     }
   }
-  return nearest;
+  if (crossings.empty()) return std::nullopt;
+  // Crossings within a margin of each other are one junction (tape laid in pieces crosses
+  // another tape in several nearby points); the one with most crossings, then nearest, wins.
+  Eigen::Vector2d point = crossings.front();
+  int most = 0;
+  for (const Eigen::Vector2d& candidate : crossings) {
+    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+    int count = 0;
+    for (const Eigen::Vector2d& other : crossings) {
+      if ((other - candidate).norm() <= margin_m) {
+        sum += other;
+        ++count;
+      }
+    }
+    const Eigen::Vector2d centre = sum / count;
+    if (count > most || (count == most && centre.norm() < point.norm())) {
+      most = count;
+      point = centre;
+    }
+  }
+  Junction junction;
+  junction.point_m = point;
+  // Every line through the junction contributes the pieces of evidence leaving it.
+  for (int index = 0; index < static_cast<int>(lines.size()); ++index) {
+    const DetectedLine& line = lines[index];
+    if (std::abs(line.model.signed_distance(point)) > margin_m) continue;
+    const double s = line.model.arc_position(point);
+    if (s < line.s_min_m - margin_m || s > line.s_max_m + margin_m) continue;
+    if (line.s_max_m - s >= (line.open_end ? min_open_branch_m : min_branch_m)) {
+      junction.branches.push_back({index, heading_at(line.model, s), line.s_max_m - s});
+    }
+    if (s - line.s_min_m >= (line.open_start ? min_open_branch_m : min_branch_m)) {
+      junction.branches.push_back(
+          {index, wrap_angle_rad(heading_at(line.model, s) + M_PI), s - line.s_min_m});
+    }
+  }
+  // Two pieces leaving in nearly the same direction are one branch: keep the longer.
+  constexpr double kSameDirection_rad = 0.35;
+  std::vector<Branch> merged;
+  for (const Branch& branch : junction.branches) {
+    bool absorbed = false;
+    for (Branch& kept : merged) {
+      if (std::abs(wrap_angle_rad(kept.heading_rad - branch.heading_rad)) < kSameDirection_rad) {
+        if (branch.length_m > kept.length_m) kept = branch;
+        absorbed = true;
+        break;
+      }
+    }
+    if (!absorbed) merged.push_back(branch);
+  }
+  junction.branches = merged;
+  if (junction.branches.size() < 2) return std::nullopt;
+  // The vehicle arrives on the branch pointing most nearly back at it.
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < junction.branches.size(); ++k) {
+    const Eigen::Vector2d direction(std::cos(junction.branches[k].heading_rad),
+                                    std::sin(junction.branches[k].heading_rad));
+    const double towards = direction.dot(point.normalized());  // -1: straight back at us
+    if (towards < best) {
+      best = towards;
+      junction.incoming = static_cast<int>(k);
+    }
+  }
+  if (best > -0.5) junction.incoming = -1;  // nothing comes from the vehicle's side
+  return junction;
 }
 
-FollowedLine choose_line(const std::vector<DetectedLine>& lines, const std::optional<Junction>& junction,
-                         BranchChoice choice, double max_turn_rad) {
+FollowedLine choose_line(const std::vector<DetectedLine>& lines,
+                         const std::optional<Junction>& junction, BranchChoice choice,
+                         double max_turn_rad) {
   FollowedLine followed;
   if (lines.empty()) return followed;
   // Without a junction: the most confident line.
@@ -109,7 +153,9 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines, const std::opti
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
     if (k == junction->incoming) continue;
     const double h = junction->branches[k].heading_rad;
-    const double score = choice == BranchChoice::kLeft ? h : choice == BranchChoice::kRight ? -h : -std::abs(h);
+    const double score = choice == BranchChoice::kLeft    ? h
+                         : choice == BranchChoice::kRight ? -h
+                                                          : -std::abs(h);
     if (score > best_score) {
       best_score = score;
       chosen = k;
@@ -126,7 +172,8 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines, const std::opti
     return followed;
   }
   // A sharp turn ahead: keep to the incoming line (oriented forward) until it is reached.
-  followed.line = junction->incoming >= 0 ? junction->branches[junction->incoming].line : best_line();
+  followed.line =
+      junction->incoming >= 0 ? junction->branches[junction->incoming].line : best_line();
   followed.model = lines[followed.line].model;
   return followed;
 }

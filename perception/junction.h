@@ -18,8 +18,8 @@ const char* branch_choice_name(BranchChoice choice);
 // A piece of a line leaving a junction.
 struct Branch {
   int line = 0;
-  double heading_rad = 0.0;   // direction away from the junction, vehicle frame
-  double length_m = 0.0;      // evidence along it from the junction
+  double heading_rad = 0.0;  // direction away from the junction, vehicle frame
+  double length_m = 0.0;     // evidence along it from the junction
 };
 
 // Where two lines meet within their evidence, and the branches leaving that point.
@@ -29,9 +29,13 @@ struct Junction {
   int incoming = -1;  // index in branches of the one the vehicle arrives on, if any
 };
 
-// The junction nearest the vehicle, if any pair of lines meets within their evidence (plus
-// `margin_m`). A branch counts when at least min_branch_m of evidence leaves the point.
-std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m, double min_branch_m);
+// Where lines meet, if any pair crosses within their evidence (plus `margin_m`): crossings
+// within margin_m of each other are one junction (pieces of tape laid end to end); the
+// junction with most crossings (then the nearest) is returned, with the pieces of every line
+// through it that leave it. A branch counts when at least min_branch_m of evidence leaves the
+// point, or, where the evidence runs into the image border, min_open_branch_m.
+std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m,
+                                      double min_branch_m, double min_open_branch_m);
 
 // The line to follow and its direction: without a junction, the best line; at a junction the
 // outgoing branch the choice names (left: most counter-clockwise, right: most clockwise,
@@ -42,7 +46,8 @@ struct FollowedLine {
   int line = -1;
   CurveModel model;
 };
-FollowedLine choose_line(const std::vector<DetectedLine>& lines, const std::optional<Junction>& junction,
-                         BranchChoice choice, double max_turn_rad);
+FollowedLine choose_line(const std::vector<DetectedLine>& lines,
+                         const std::optional<Junction>& junction, BranchChoice choice,
+                         double max_turn_rad);
 
 }  // namespace agv::perception

@@ -24,15 +24,23 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
   // Tape width in downsampled pixels at the middle of the view; without a configured width,
   // the common widths from 12 to 50 mm.
   const double footprint_m = std::max(1e-6, floor_map_.typical_footprint_m());
-  const std::vector<double> widths_m = options_.tape.width_m > 0.0 ? std::vector<double>{options_.tape.width_m}
-                                                                   : std::vector<double>{0.012, 0.025, 0.05};
-  for (double width_m : widths_m) bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
+  const std::vector<double> widths_m = options_.tape.width_m > 0.0
+                                           ? std::vector<double>{options_.tape.width_m}
+                                           : std::vector<double>{0.012, 0.025, 0.05};
+  for (double width_m : widths_m)
+    bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
   tape_width_px_ = *std::max_element(widths_m.begin(), widths_m.end()) / footprint_m;
   options_.lines.expected_width_m = options_.tape.width_m;
+  // Pieces of tape laid end to end are rarely collinear to better than a tenth of their width:
+  // the inlier band grows with the width so that such a seam does not split a line.
+  const double reference_width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
+  options_.lines.fit.inlier_threshold_m =
+      std::max(options_.lines.fit.inlier_threshold_m, 0.12 * reference_width_m);
   options_.lines.full_span_m = floor_map_.view_radius_m();
 }
 
-LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s, LineDetection* details) const {
+LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
+                                        LineDetection* details) const {
   LineDetection local;
   LineDetection& d = details ? *details : local;
   d = LineDetection{};
@@ -54,7 +62,8 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s, Li
   }
   const std::optional<ContrastAxis> axis = estimate_contrast_axis(small, options_.tape.color_bgr);
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
-  const TapeRegions coarse = find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
+  const TapeRegions coarse =
+      find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
   if (coarse.regions.empty()) return not_found(stamp_s, "no tape-like region", &d);
 
   // The bar response covers at least the tape's middle half: 0.6 of a width beyond it reaches
@@ -66,11 +75,13 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s, Li
     const TapeRegion& region = coarse.regions[r];
     // A single band (long, one tape wide) is crossed best by scan lines across it; anything
     // else (curves, corners, junctions) is scanned both ways.
-    const bool band = region.length_px > 4.0 * region.width_px && region.width_px < 1.6 * tape_width_px_;
+    const bool band =
+        region.length_px > 4.0 * region.width_px && region.width_px < 1.6 * tape_width_px_;
     const bool rows_first = std::abs(region.direction.y) >= std::abs(region.direction.x);
     for (bool along_rows : {true, false}) {
       if (band && along_rows != rows_first) continue;
-      const std::vector<EdgePair> edges = scan_tape_edges(frame, *axis, coarse, region, along_rows, scan);
+      const std::vector<EdgePair> edges =
+          scan_tape_edges(frame, *axis, coarse, region, along_rows, scan);
       for (const EdgePair& pair : edges) {
         const auto a = floor_map_.at(pair.first_px.x, pair.first_px.y);
         const auto b = floor_map_.at(pair.second_px.x, pair.second_px.y);
@@ -83,9 +94,25 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s, Li
 
   std::vector<std::string> rejections;
   d.lines = extract_lines(d.chords, options_.lines, &rejections);
-  if (d.lines.empty()) return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
-  d.junction = find_junction(d.lines, std::max(options_.tape.width_m, 0.01), options_.lines.min_visible_length_m);
-  const FollowedLine followed = choose_line(d.lines, d.junction, options_.branch, options_.max_branch_turn_rad);
+  if (d.lines.empty())
+    return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
+  // Where the evidence of each line ends: at the image border the tape goes on unseen.
+  const double border_px = 0.04 * std::min(frame.cols, frame.rows);
+  auto near_border = [&](const Eigen::Vector2d& p) {
+    const auto pixel = camera_.floor_to_pixel(p);
+    return !pixel || pixel->x < border_px || pixel->y < border_px ||
+           pixel->x > frame.cols - 1 - border_px || pixel->y > frame.rows - 1 - border_px;
+  };
+  for (DetectedLine& line : d.lines) {
+    line.open_start = near_border(line.model.point_at(line.s_min_m));
+    line.open_end = near_border(line.model.point_at(line.s_max_m));
+  }
+  // A branch is a piece of tape leaving the junction by more than a tape width (less is the
+  // overlap of a corner), or running out of view once clear of the crossing tape.
+  const double width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
+  d.junction = find_junction(d.lines, width_m, std::max(0.01, width_m), 0.6 * width_m);
+  const FollowedLine followed =
+      choose_line(d.lines, d.junction, options_.branch, options_.max_branch_turn_rad);
   d.followed = followed.line;
   d.followed_model = followed.model;
 

@@ -17,19 +17,19 @@ namespace agv::perception {
 
 // What is known in advance about the tape.
 struct TapeHints {
-  double width_m = 0.025;                // expected width; 0: unknown (no width check)
-  std::optional<cv::Vec3d> color_bgr;    // tape colour; nullopt: found from the image
+  double width_m = 0.025;              // expected width; 0: unknown (no width check)
+  std::optional<cv::Vec3d> color_bgr;  // tape colour; nullopt: found from the image
 };
 
 // Everything the estimator saw in one frame, for annotation, plots and tests.
 struct LineDetection {
-  std::vector<EdgePair> edges;            // pixel edges per scan line
-  std::vector<Chord> chords;              // the same on the floor, vehicle frame
-  std::vector<DetectedLine> lines;        // every line accepted (up to 3)
-  std::optional<Junction> junction;       // where lines meet, if they do in view
-  int followed = -1;                      // index in `lines` of the line reported
-  CurveModel followed_model;              // that line, oriented along the travel direction
-  std::string rejected_because;           // why no line, when none
+  std::vector<EdgePair> edges;       // pixel edges per scan line
+  std::vector<Chord> chords;         // the same on the floor, vehicle frame
+  std::vector<DetectedLine> lines;   // every line accepted (up to 3)
+  std::optional<Junction> junction;  // where lines meet, if they do in view
+  int followed = -1;                 // index in `lines` of the line reported
+  CurveModel followed_model;         // that line, oriented along the travel direction
+  std::string rejected_because;      // why no line, when none
 };
 
 // Finds the guide line(s) in a frame and reports the one to follow as (e_theta, e_d, curvature)
@@ -49,20 +49,21 @@ class LineEstimator {
  public:
   struct Options {
     TapeHints tape;
-    int downsample = 4;                   // a power of two
+    int downsample = 4;  // a power of two
     int min_region_area_small_px = 12;
     int max_regions = 4;
-    LineSetOptions lines;                 // expected width and full span are set from the rest
+    LineSetOptions lines;  // expected width and full span are set from the rest
     EdgeScanOptions scan;
     BranchChoice branch = BranchChoice::kStraight;
-    double max_branch_turn_rad = 1.05;    // sharper branches are taken when reached (60 deg)
+    double max_branch_turn_rad = 1.05;  // sharper branches are taken when reached (60 deg)
   };
 
   LineEstimator(const CameraModel& camera, const Options& options);
 
   // Measurement of one frame taken at stamp_s (8-bit BGR or grey, the camera's size; any other
   // frame gives line_found = false with the reason in `details`).
-  LineMeasurement estimate(const cv::Mat& frame, double stamp_s, LineDetection* details = nullptr) const;
+  LineMeasurement estimate(const cv::Mat& frame, double stamp_s,
+                           LineDetection* details = nullptr) const;
 
   const FloorMap& floor_map() const { return floor_map_; }
   const CameraModel& camera() const { return camera_; }

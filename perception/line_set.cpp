@@ -24,7 +24,8 @@ double chord_width(const Chord& chord, const CurveModel& model) {
 
 }  // namespace
 
-std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords, const LineSetOptions& options,
+std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
+                                        const LineSetOptions& options,
                                         std::vector<std::string>* rejections) {
   std::vector<DetectedLine> lines;
   auto reject = [&](const std::string& why) {
@@ -39,7 +40,8 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords, const 
     centres.push_back(chord.centre());
     available.push_back((chord.a - chord.b).norm() <= max_chord_m);
   }
-  for (int attempt = 0; attempt < 2 * options.max_lines && static_cast<int>(lines.size()) < options.max_lines;
+  for (int attempt = 0;
+       attempt < 2 * options.max_lines && static_cast<int>(lines.size()) < options.max_lines;
        ++attempt) {
     const int remaining = static_cast<int>(std::count(available.begin(), available.end(), true));
     if (remaining < options.min_points) {

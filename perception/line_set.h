@@ -16,33 +16,36 @@ struct Chord {
 
 // One guide line found in a frame.
 struct DetectedLine {
-  CurveModel model;           // e_d, heading (e_theta = -heading) and curvature at the vehicle
-  double width_m = 0.0;       // median width across the tape
+  CurveModel model;             // e_d, heading (e_theta = -heading) and curvature at the vehicle
+  double width_m = 0.0;         // median width across the tape
   double width_spread_m = 0.0;  // 10-90 % range of the widths
   double residual_rms_m = 0.0;
   double s_min_m = 0.0, s_max_m = 0.0;  // extent of the evidence along the curve
   int points_used = 0;
   double confidence = 0.0;
-  std::vector<int> chords;    // indices of the chords that support it
+  std::vector<int> chords;  // indices of the chords that support it
+  bool open_start = false;  // the evidence runs into the image border at s_min / s_max:
+  bool open_end = false;    // the tape goes on beyond what is seen
 };
 
 struct LineSetOptions {
-  int max_lines = 3;
+  int max_lines = 4;  // a crossing of tape laid in pieces needs more than 2
   int min_points = 12;
   double min_visible_length_m = 0.03;
-  double expected_width_m = 0.025;     // 0: unknown
-  double width_tolerance = 0.35;       // accepted |measured - expected| / expected
-  double width_spread_tolerance = 0.3; // accepted 10-90 % width range / median width
-  double min_inlier_fraction = 0.5;    // of the chords near the line
+  double expected_width_m = 0.025;      // 0: unknown
+  double width_tolerance = 0.35;        // accepted |measured - expected| / expected
+  double width_spread_tolerance = 0.3;  // accepted 10-90 % width range / median width
+  double min_inlier_fraction = 0.5;     // of the chords near the line
   double min_confidence = 0.1;
-  double full_span_m = 0.15;           // evidence this long counts as fully seen
+  double full_span_m = 0.15;  // evidence this long counts as fully seen
   CurveFitOptions fit;
 };
 
 // Up to max_lines lines through the chords' centres, found one after the other (the best
 // supported first), each checked for width, width consistency, length and straightness of
 // evidence. `rejections` (optional) receives why candidates were turned down.
-std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords, const LineSetOptions& options,
+std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
+                                        const LineSetOptions& options,
                                         std::vector<std::string>* rejections = nullptr);
 
 }  // namespace agv::perception

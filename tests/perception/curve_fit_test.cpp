@@ -13,8 +13,11 @@ namespace {
 // right of the path: e_d = -(|C| - R) = -(sqrt(0.34) - 0.5) = -0.083095 m.
 TEST(CurveModel, CircleThroughThreePointsHandCase) {
   const Eigen::Vector2d c(0.3, 0.5);
-  auto on_circle = [&](double angle) { return Eigen::Vector2d(c + 0.5 * Eigen::Vector2d(std::sin(angle), -std::cos(angle))); };
-  const auto m = curve_through(on_circle(-0.2), on_circle(0.1), on_circle(0.4), Eigen::Vector2d::UnitX());
+  auto on_circle = [&](double angle) {
+    return Eigen::Vector2d(c + 0.5 * Eigen::Vector2d(std::sin(angle), -std::cos(angle)));
+  };
+  const auto m =
+      curve_through(on_circle(-0.2), on_circle(0.1), on_circle(0.4), Eigen::Vector2d::UnitX());
   ASSERT_TRUE(m);
   EXPECT_NEAR(m->curvature_1_m, 2.0, 1e-9);
   EXPECT_NEAR(m->e_d_m, -(std::sqrt(0.34) - 0.5), 1e-9);
@@ -60,8 +63,8 @@ struct Noisy {
   std::vector<Eigen::Vector2d> points;
 };
 
-Noisy sample(const CurveModel& truth, double s0, double s1, int count, double noise_m, double outlier_fraction,
-             std::uint64_t seed) {
+Noisy sample(const CurveModel& truth, double s0, double s1, int count, double noise_m,
+             double outlier_fraction, std::uint64_t seed) {
   cv::RNG rng(seed);
   Noisy out;
   for (int i = 0; i < count; ++i) {
