@@ -25,6 +25,34 @@ void sample_contrast(const unsigned char* first, size_t stride, int count, int c
   }
 }
 
+// From `start` (on the tape), steps in direction `step` while the profile stays at or above
+// `threshold`, crossing dips below it that are at most max_dip samples long (worn spots);
+// returns the first sample beyond the tape's edge (or the profile's end).
+int walk_to_edge(const std::vector<float>& profile, int start, int step, float threshold, int max_dip) {
+  const int n = static_cast<int>(profile.size());
+  int i = start;
+  while (true) {
+    const int next = i + step;
+    if (next < 0 || next >= n) return i;
+    if (profile[next] >= threshold) {
+      i = next;
+      continue;
+    }
+    // Below threshold: a dip if the tape comes back within max_dip samples.
+    int back = -1;
+    for (int k = 2; k <= max_dip + 1; ++k) {
+      const int probe = i + k * step;
+      if (probe < 0 || probe >= n) break;
+      if (profile[probe] >= threshold) {
+        back = probe;
+        break;
+      }
+    }
+    if (back < 0) return next;
+    i = back;
+  }
+}
+
 struct Run {
   int lo, hi;  // downsampled coordinates along the scan line, inclusive
 };
@@ -117,12 +145,10 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       // Walk outwards from the peak to the half-way crossings, each against its own floor level.
       const float threshold_first = 0.5f * (floor_first + tape_level);
       const float threshold_second = 0.5f * (floor_second + tape_level);
-      int i = peak;
-      while (i > 0 && profile[i] >= threshold_first) --i;
+      const int i = walk_to_edge(profile, peak, -1, threshold_first, options.max_dip_px);
       if (i < side) continue;  // the crossing must lie beyond the floor samples
       const float first_pos = i + (threshold_first - profile[i]) / (profile[i + 1] - profile[i]);
-      int j = peak;
-      while (j < count - 1 && profile[j] >= threshold_second) ++j;
+      const int j = walk_to_edge(profile, peak, +1, threshold_second, options.max_dip_px);
       if (j > count - 1 - side) continue;
       const float second_pos = j - (threshold_second - profile[j]) / (profile[j - 1] - profile[j]);
 

@@ -35,8 +35,8 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
   // the inlier band grows with the width so that such a seam does not split a line.
   const double reference_width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
   options_.lines.fit.inlier_threshold_m =
-      std::max(options_.lines.fit.inlier_threshold_m, 0.12 * reference_width_m);
-  options_.lines.full_span_m = floor_map_.view_radius_m();
+      std::max(options_.lines.fit.inlier_threshold_m, 0.12 * reference_width_m);  options_.lines.full_span_m = floor_map_.view_radius_m();
+  options_.lines.scan_spacing_m = footprint_m * std::max(1, options_.scan.step);
 }
 
 LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
@@ -70,6 +70,7 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   // past the edges onto the floor.
   EdgeScanOptions scan = options_.scan;
   scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(0.6 * tape_width_px_)));
+  scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * tape_width_px_));
   const int regions = std::min<int>(options_.max_regions, static_cast<int>(coarse.regions.size()));
   for (int r = 0; r < regions; ++r) {
     const TapeRegion& region = coarse.regions[r];
@@ -115,14 +116,18 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
       choose_line(d.lines, d.junction, options_.branch, options_.max_branch_turn_rad);
   d.followed = followed.line;
   d.followed_model = followed.model;
+  if (const auto near = near_model_if_different(d.chords, d.lines[followed.line], options_.lines)) {
+    const bool same_way = near->tangent().dot(followed.model.tangent()) >= 0.0;
+    d.followed_model = same_way ? *near : near->reversed();
+  }
 
   const DetectedLine& line = d.lines[followed.line];
   LineMeasurement m;
   m.stamp_s = stamp_s;
   m.line_found = true;
-  m.e_theta_rad = -followed.model.heading_rad;
-  m.e_d_m = followed.model.e_d_m;
-  m.curvature_1_m = followed.model.curvature_1_m;
+  m.e_theta_rad = -d.followed_model.heading_rad;
+  m.e_d_m = d.followed_model.e_d_m;
+  m.curvature_1_m = d.followed_model.curvature_1_m;
   m.confidence = line.confidence;
   m.points_used = line.points_used;
   m.tape_width_m = line.width_m;

@@ -24,6 +24,26 @@ double chord_width(const Chord& chord, const CurveModel& model) {
 
 }  // namespace
 
+std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords, const DetectedLine& line,
+                                                  const LineSetOptions& options, double sigmas) {
+  std::vector<double> distances;
+  for (int index : line.chords) distances.push_back(chords[index].centre().norm());
+  if (static_cast<int>(distances.size()) < 2 * options.min_points) return std::nullopt;
+  const double median = quantile(distances, 0.5);
+  std::vector<Eigen::Vector2d> centres;
+  for (const Chord& chord : chords) centres.push_back(chord.centre());
+  std::vector<bool> near(chords.size(), false);
+  for (int index : line.chords) near[index] = chords[index].centre().norm() <= median;
+  CurveFitOptions fit_options = options.fit;
+  fit_options.forward = line.model.tangent();
+  const CurveFit fit = fit_curve_robust(centres, fit_options, &near);
+  if (!fit.ok || fit.inlier_count < options.min_points) return std::nullopt;
+  if (fit.s_max_m - fit.s_min_m < std::max(options.min_visible_length_m, 0.05)) return std::nullopt;
+  const double difference = std::abs(fit.model.curvature_1_m - line.model.curvature_1_m);
+  if (difference <= sigmas * fit.curvature_sigma_1_m + 0.05) return std::nullopt;
+  return fit.model.tangent().dot(line.model.tangent()) >= 0.0 ? fit.model : fit.model.reversed();
+}
+
 std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
                                         const LineSetOptions& options,
                                         std::vector<std::string>* rejections) {
@@ -81,6 +101,12 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     if (span_m < options.min_visible_length_m) {
       reject("visible tape too short");
       continue;
+    }    // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
+    // texture blobs has it only here and there.
+    line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
+    if (line.coverage < options.min_coverage) {
+      reject("evidence too sparse along the line");
+      continue;
     }
     if (inlier_fraction < options.min_inlier_fraction) {
       reject("edge points do not lie on one line");
@@ -102,8 +128,9 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     const double span_factor = std::min(1.0, span_m / options.full_span_m);
     const double width_factor =
         options.expected_width_m > 0.0 ? std::exp(-0.5 * std::pow(width_error / 0.15, 2)) : 1.0;
-    const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));
-    line.confidence = std::min(1.0, inlier_fraction) * span_factor * width_factor * residual_factor;
+    const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));    const double coverage_factor = std::min(1.0, line.coverage / 0.6);
+    line.confidence =
+        std::min(1.0, inlier_fraction) * span_factor * width_factor * residual_factor * coverage_factor;
     if (line.confidence < options.min_confidence) {
       reject("evidence too weak");
       continue;

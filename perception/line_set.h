@@ -1,6 +1,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "perception/curve_fit.h"
@@ -22,6 +24,7 @@ struct DetectedLine {
   double residual_rms_m = 0.0;
   double s_min_m = 0.0, s_max_m = 0.0;  // extent of the evidence along the curve
   int points_used = 0;
+  double coverage = 0.0;      // evidence per scan line over the span (1: every line crossed)
   double confidence = 0.0;
   std::vector<int> chords;  // indices of the chords that support it
   bool open_start = false;  // the evidence runs into the image border at s_min / s_max:
@@ -36,10 +39,19 @@ struct LineSetOptions {
   double width_tolerance = 0.35;        // accepted |measured - expected| / expected
   double width_spread_tolerance = 0.3;  // accepted 10-90 % width range / median width
   double min_inlier_fraction = 0.5;     // of the chords near the line
-  double min_confidence = 0.1;
-  double full_span_m = 0.15;  // evidence this long counts as fully seen
+  double min_confidence = 0.1;  double full_span_m = 0.15;           // evidence this long counts as fully seen
+  double scan_spacing_m = 0.0004;      // floor distance between scan lines (one chord each)
+  double min_coverage = 0.25;          // chords per scan line along the span: tape gives ~1
   CurveFitOptions fit;
 };
+
+// A path's curvature may change within view (a straight running into an arc, an arc into a
+// straight); the model that holds at the vehicle is then the one of the evidence nearest to it.
+// Fits the nearer half of a line's chords (by distance from the vehicle origin) and returns that
+// model, oriented as the line's, when its curvature differs from the whole line's by more than
+// `sigmas` of its own uncertainty; nullopt when the whole-line model stands.
+std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords, const DetectedLine& line,
+                                                  const LineSetOptions& options, double sigmas = 4.0);
 
 // Up to max_lines lines through the chords' centres, found one after the other (the best
 // supported first), each checked for width, width consistency, length and straightness of

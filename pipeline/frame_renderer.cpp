@@ -38,6 +38,7 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
   cv::resize(floor_x_m_, texture_x_m_, texture_grid, 0, 0, cv::INTER_AREA);
   cv::resize(floor_y_m_, texture_y_m_, texture_grid, 0, 0, cv::INTER_AREA);
   gain_.create(h, w, CV_32F);
+  glare_.create(h, w, CV_32F);
   const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
   const double corner_sq = cx * cx + cy * cy;
   const double gx = std::cos(fx.illumination_direction_rad),
@@ -47,10 +48,31 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
       const double du = u - cx, dv = v - cy;
       const double vignette = 1.0 - fx.vignetting * (du * du + dv * dv) / corner_sq;
       const double gradient = 1.0 + fx.illumination_gradient * (du / w * gx + dv / h * gy);
+      // The vehicle's shadow: a soft half-plane across the image.
+      const double across = (du * std::cos(fx.shadow_direction_rad) + dv * std::sin(fx.shadow_direction_rad)) /
+                            (0.5 * std::max(w, h));
+      const double softness = std::max(1e-3, fx.shadow_softness * w / (0.5 * std::max(w, h)));
+      const double shadowed = 0.5 * (1.0 + std::tanh((across - fx.shadow_offset) / softness));
+      const double shadow = 1.0 - fx.shadow_darkness * shadowed;
       const bool sees_floor = std::isfinite(floor_map_.x_m().at<float>(v, u));
-      gain_.at<float>(v, u) =
-          sees_floor ? static_cast<float>(fx.brightness * vignette * gradient) : 0.0f;
+      gain_.at<float>(v, u) = sees_floor ? static_cast<float>(fx.brightness * vignette * gradient * shadow) : 0.0f;
+      // A specular glare: a Gaussian spot of added light.
+      const double gu = u - fx.specular_x * (w - 1), gv = v - fx.specular_y * (h - 1);
+      const double radius_px = std::max(1.0, fx.specular_radius * w);
+      glare_.at<float>(v, u) =
+          static_cast<float>(fx.specular_strength * std::exp(-(gu * gu + gv * gv) / (2.0 * radius_px * radius_px)));
     }
+  }
+  // Worn tape: where a second, finer floor-texture field exceeds the level that a fraction
+  // `wear` of it exceeds (the standard normal quantile, by bisection on erfc).
+  for (const TapeStrip& strip : scene.tapes) {
+    double lo = -6.0, hi = 6.0;
+    const double fraction = std::clamp(strip.wear, 1e-9, 1.0 - 1e-9);
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (0.5 * std::erfc(mid / std::sqrt(2.0)) > fraction ? lo : hi) = mid;
+    }
+    wear_level_.push_back(static_cast<float>(0.5 * (lo + hi)));
   }
   // Anti-aliasing: a pixel's coverage of the tape ramps over its footprint and the tape's soft
   // edge.
@@ -131,6 +153,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   const std::vector<SubPose> texture_poses = sub_poses(texture_samples, false);
 
   const int strips = static_cast<int>(scene_.tapes.size());
+  const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)), centre_s = static_cast<float>(std::sin(pose.yaw_rad));
+  const float centre_tx = static_cast<float>(pose.x_m), centre_ty = static_cast<float>(pose.y_m);
   const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
   const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
   const float floor_r = static_cast<float>(scene_.floor.color_bgr[2]);
@@ -212,6 +236,16 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
           static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast
                                                                  : 1.0);
       const float inverse_samples = 1.0f / tape_samples;
+      if (scene_.tapes[i].wear > 0.0) {
+        // Worn patches show the floor through the tape (world-fixed, 1-20 mm across).
+        for (int u = 0; u < w; ++u) {
+          if (alpha[i][u] <= 0.0f) continue;
+          const float wx = centre_c * xs[u] - centre_s * ys[u] + centre_tx;
+          const float wy = centre_s * xs[u] + centre_c * ys[u] + centre_ty;
+          const float t = texture_.sample(2.3f * wx + 13.1f, 2.3f * wy - 7.3f);
+          alpha[i][u] *= std::clamp(1.0f - (t - wear_level_[i]) / 0.4f, 0.0f, 1.0f);
+        }
+      }
       for (int u = 0; u < w; ++u) {
         const float a = alpha[i][u] * inverse_samples;
         // The tape shares the floor's texture pattern, at its own (weaker) contrast.
@@ -225,6 +259,7 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
     // Camera: vignetting and illumination gain, sensor noise, 8-bit output (one plane per
     // channel, so that the loops vectorise; merged into BGR at the end).
     const float* gain = gain_.ptr<float>(v);
+    const float* glare = glare_.ptr<float>(v);
     const float* colour[3] = {blue.data(), green.data(), red.data()};
     for (int ch = 0; ch < 3; ++ch) {
       const signed char* noise = noise_bank_.ptr<signed char>(v + noise_dy) + noise_dx + ch * w;
@@ -232,7 +267,7 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       const float* c = colour[ch];
       for (int u = 0; u < w; ++u) {
         const float value =
-            std::min(std::max(c[u] * gain[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
+            std::min(std::max(c[u] * gain[u] + glare[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
         out[u] = static_cast<unsigned char>(static_cast<int>(value));
       }
     }

@@ -16,9 +16,10 @@
 namespace agv::pipeline {
 
 // Draws the colour frame (8-bit BGR, the camera's size) that the camera on a vehicle sees:
-// textured floor, tape with anti-aliased soft edges, motion blur over the exposure, lens
-// distortion (each pixel samples the floor along its own distorted ray), vignetting, an
-// illumination gradient and Gaussian sensor noise. Headless, single-threaded, deterministic
+// textured floor, tape with anti-aliased soft edges (worn, interrupted), motion blur over the
+// exposure, lens distortion (each pixel samples the floor along its own distorted ray),
+// vignetting, an illumination gradient, the vehicle's shadow, a specular glare and Gaussian
+// sensor noise. Headless, single-threaded, deterministic
 // for the scene's seed and the frame index. One renderer per thread: rendering reuses buffers.
 class FrameRenderer {
  public:
@@ -39,7 +40,9 @@ class FrameRenderer {
   FloorTexture texture_;
   cv::Mat floor_x_m_, floor_y_m_;      // the floor map with 0 where no floor is seen
   cv::Mat texture_x_m_, texture_y_m_;  // the same on the half-resolution texture grid
-  cv::Mat gain_;                       // CV_32F: vignetting x illumination gradient x brightness
+  cv::Mat gain_;   // CV_32F: vignetting x illumination gradient x shadow x brightness
+  cv::Mat glare_;  // CV_32F: specular glare added, grey levels
+  std::vector<float> wear_level_;  // per strip: texture level above which the tape is worn
   cv::Mat noise_bank_;                 // CV_8S: standard normal samples x kNoiseScale
   std::vector<WorldPiece> pieces_;
   std::vector<cv::Mat> inverse_ramp_;

@@ -17,15 +17,16 @@ constexpr double kPi = std::numbers::pi;
 cv::Vec3d colour(const std::vector<double>& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
 std::vector<double> values(const cv::Vec3d& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
 
-control::Path read_path(YamlReader& in) {
-  const Pose2 start{in.number("path.start.x_m", 0.0, -1e4, 1e4),
-                    in.number("path.start.y_m", 0.0, -1e4, 1e4),
-                    in.number("path.start.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
+// A path under `prefix` ("path", "extra_tapes.0"): start pose and segments.
+control::Path read_path(YamlReader& in, const std::string& prefix) {
+  const Pose2 start{in.number(prefix + ".start.x_m", 0.0, -1e4, 1e4),
+                    in.number(prefix + ".start.y_m", 0.0, -1e4, 1e4),
+                    in.number(prefix + ".start.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
   control::Path path = control::Path::starting_at(start);
-  const size_t count = in.sequence_size("path.segments");
+  const size_t count = in.sequence_size(prefix + ".segments");
   if (count == 0) return path.add_line(20.0);
   for (size_t i = 0; i < count; ++i) {
-    const std::string key = "path.segments." + std::to_string(i) + ".";
+    const std::string key = prefix + ".segments." + std::to_string(i) + ".";
     const std::string kind = in.choice(key + "kind", "line", {"line", "arc"});
     if (kind == "line") {
       path.add_line(in.positive(key + "length_m", 1.0, 1e4));
@@ -64,6 +65,43 @@ perception::CameraFile read_camera(YamlReader& in, const ScenarioText& source, s
     return perception::load_camera_file(path.string());
   } catch (const InputError& e) {
     throw InputError(in.origin("camera") + ": key 'camera': " + e.what());
+  }
+}
+
+// Seams and stray marks drawn as thin dark strips over the region the run can see: the main
+// path's bounding box grown by a metre.
+void add_floor_marks(const Scenario& s, Scene* scene) {
+  const FloorMarks& m = s.marks;
+  if (m.seam_spacing_m <= 0.0 && m.marks_per_m2 <= 0.0) return;
+  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
+  for (double t = 0.0; t <= s.path.length_m(); t += 0.05) {
+    lo = lo.cwiseMin(s.path.point_at(t));
+    hi = hi.cwiseMax(s.path.point_at(t));
+  }
+  lo -= Eigen::Vector2d(1.0, 1.0);
+  hi += Eigen::Vector2d(1.0, 1.0);
+  auto strip = [&](const Pose2& start, double length_m, double width_m, double darkness) {
+    TapeStrip mark;
+    mark.path = control::Path::starting_at(start).add_line(length_m);
+    mark.width_m = width_m;
+    mark.color_bgr = s.floor.color_bgr * (1.0 - darkness);
+    mark.edge_softness_m = 0.3 * width_m;
+    mark.texture_contrast = 0.0;
+    scene->tapes.push_back(mark);
+  };
+  if (m.seam_spacing_m > 0.0) {
+    for (double x = std::ceil(lo.x() / m.seam_spacing_m) * m.seam_spacing_m; x <= hi.x(); x += m.seam_spacing_m) {
+      strip({x, lo.y(), kPi / 2}, hi.y() - lo.y(), m.seam_width_m, m.seam_darkness);
+    }
+    for (double y = std::ceil(lo.y() / m.seam_spacing_m) * m.seam_spacing_m; y <= hi.y(); y += m.seam_spacing_m) {
+      strip({lo.x(), y, 0.0}, hi.x() - lo.x(), m.seam_width_m, m.seam_darkness);
+    }
+  }
+  cv::RNG rng(s.seed * 7777 + 5);
+  const int count = static_cast<int>(m.marks_per_m2 * (hi - lo).prod());
+  for (int i = 0; i < count; ++i) {
+    strip({rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), rng.uniform(-kPi, kPi)},
+          rng.uniform(0.02, 0.1), rng.uniform(0.001, 0.004), m.mark_darkness * rng.uniform(0.5, 1.0));
   }
 }
 
@@ -114,7 +152,10 @@ Scenario load_scenario(const ScenarioText& source,
   s.initial_e_theta_rad =
       in.number("initial_error.e_theta_rad", s.initial_e_theta_rad, -kPi / 2, kPi / 2);
   s.initial_e_d_m = in.number("initial_error.e_d_m", s.initial_e_d_m, -0.5, 0.5);
-  s.path = read_path(in);
+  s.path = read_path(in, "path");
+  for (size_t i = 0; i < in.sequence_size("extra_tapes"); ++i) {
+    s.extra_paths.push_back(read_path(in, "extra_tapes." + std::to_string(i)));
+  }
   s.start_s_m = in.number("start_s_m", s.start_s_m, 0.0, s.path.length_m());
 
   TapeStrip& tape = s.tape;
@@ -122,7 +163,25 @@ Scenario load_scenario(const ScenarioText& source,
   tape.color_bgr = colour(in.numbers("tape.color_bgr", values(tape.color_bgr), 3, 0.0, 255.0));
   tape.edge_softness_m = in.number("tape.edge_softness_m", tape.edge_softness_m, 0.0, 0.01);
   tape.texture_contrast = in.number("tape.texture_contrast", tape.texture_contrast, 0.0, 1.0);
+  tape.wear = in.number("tape.wear", tape.wear, 0.0, 0.95);
+  for (size_t i = 0; i < in.sequence_size("tape.gaps_m"); ++i) {
+    const std::string key = "tape.gaps_m." + std::to_string(i);
+    const std::vector<double> gap = in.numbers(key, {}, 2, 0.0, s.path.length_m());
+    if (gap[0] >= gap[1]) {
+      throw InputError(in.origin(key) + ": key '" + key + "': expected [from, to] with from < to");
+    }
+    tape.gaps_m.emplace_back(gap[0], gap[1]);
+  }
   tape.path = s.path;
+  s.marks.seam_spacing_m = in.number("floor.seam_spacing_m", s.marks.seam_spacing_m, 0.0, 100.0);
+  if (s.marks.seam_spacing_m > 0.0 && s.marks.seam_spacing_m < 0.05) {
+    throw InputError(in.origin("floor.seam_spacing_m") +
+                     ": key 'floor.seam_spacing_m': 0 (no seams) or at least 0.05 m");
+  }
+  s.marks.seam_width_m = in.number("floor.seam_width_m", s.marks.seam_width_m, 0.0005, 0.05);
+  s.marks.seam_darkness = in.number("floor.seam_darkness", s.marks.seam_darkness, 0.0, 1.0);
+  s.marks.marks_per_m2 = in.number("floor.marks_per_m2", s.marks.marks_per_m2, 0.0, 200.0);
+  s.marks.mark_darkness = in.number("floor.mark_darkness", s.marks.mark_darkness, 0.0, 1.0);
   s.floor.color_bgr =
       colour(in.numbers("floor.color_bgr", values(s.floor.color_bgr), 3, 0.0, 255.0));
   s.floor.texture_contrast =
@@ -138,6 +197,15 @@ Scenario load_scenario(const ScenarioText& source,
   fx.illumination_direction_rad = in.number("image.illumination_direction_rad",
                                             fx.illumination_direction_rad, -2 * kPi, 2 * kPi);
   fx.brightness = in.number("image.brightness", fx.brightness, 0.05, 4.0);
+  fx.shadow_darkness = in.number("image.shadow.darkness", fx.shadow_darkness, 0.0, 0.95);
+  fx.shadow_direction_rad =
+      in.number("image.shadow.direction_rad", fx.shadow_direction_rad, -2 * kPi, 2 * kPi);
+  fx.shadow_offset = in.number("image.shadow.offset", fx.shadow_offset, -1.5, 1.5);
+  fx.shadow_softness = in.number("image.shadow.softness", fx.shadow_softness, 0.001, 1.0);
+  fx.specular_strength = in.number("image.specular.strength", fx.specular_strength, 0.0, 255.0);
+  fx.specular_x = in.number("image.specular.x", fx.specular_x, -0.5, 1.5);
+  fx.specular_y = in.number("image.specular.y", fx.specular_y, -0.5, 1.5);
+  fx.specular_radius = in.number("image.specular.radius", fx.specular_radius, 0.005, 2.0);
   s.tape_color_hint = in.boolean("perception.use_tape_color_hint", s.tape_color_hint);
 
   s.camera = read_camera(in, source, &s.camera_name);
@@ -215,7 +283,14 @@ Scenario load_scenario(const ScenarioText& source,
 
 Scene render_scene(const Scenario& scenario) {
   Scene scene;
+  add_floor_marks(scenario, &scene);  // first: the tape is laid over seams and marks
   scene.tapes.push_back(scenario.tape);
+  for (const control::Path& path : scenario.extra_paths) {
+    TapeStrip extra = scenario.tape;
+    extra.path = path;
+    extra.gaps_m.clear();
+    scene.tapes.push_back(extra);
+  }
   scene.floor = scenario.floor;
   scene.effects = scenario.effects;
   scene.seed = scenario.seed;

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <utility>
 #include <vector>
 
 #include "control/path.h"
@@ -15,6 +16,8 @@ struct TapeStrip {
   cv::Vec3d color_bgr = {170.0, 90.0, 25.0};  // blue tape
   double edge_softness_m = 0.0003;            // width of the soft edge (paper fibres, glue)
   double texture_contrast = 0.03;             // relative brightness variation of the tape
+  double wear = 0.0;                          // fraction of the tape worn through to the floor
+  std::vector<std::pair<double, double>> gaps_m;  // [from, to] arc lengths with no tape
 };
 
 struct FloorStyle {
@@ -31,6 +34,20 @@ struct ImageEffects {
   double illumination_gradient = 0.15;      // brightness change across the image, fraction
   double illumination_direction_rad = 0.6;  // direction of that change in the image
   double brightness = 1.0;                  // overall exposure gain
+  // The vehicle's own shadow, fixed in the image: a half-plane darkened by `shadow_darkness`,
+  // its edge `shadow_offset` (-1..1, image half-sizes) from the centre along
+  // `shadow_direction_rad`, blurred over `shadow_softness` (fraction of the image width).
+  double shadow_darkness = 0.0;
+  double shadow_direction_rad = 0.0;
+  double shadow_offset = 0.5;
+  double shadow_softness = 0.05;
+  // A specular glare of a light on a glossy floor, fixed in the image: adds up to
+  // `specular_strength` grey levels in a Gaussian spot at (specular_x, specular_y) (fractions of
+  // the image size) of radius `specular_radius` (fraction of the image width).
+  double specular_strength = 0.0;
+  double specular_x = 0.6;
+  double specular_y = 0.4;
+  double specular_radius = 0.08;
 };
 
 struct Scene {

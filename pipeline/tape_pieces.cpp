@@ -13,38 +13,56 @@ constexpr double kArcPieceMax_rad = std::numbers::pi / 2.0;
 std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes) {
   std::vector<WorldPiece> pieces;
   for (int strip = 0; strip < static_cast<int>(tapes.size()); ++strip) {
-    const auto& segments = tapes[strip].path.segments();
-    const size_t first_piece = pieces.size();
-    for (const control::PathSegment& segment : segments) {
-      const bool is_arc = std::abs(segment.curvature_1_m) > 1e-12;
-      const double sweep_rad = std::abs(segment.curvature_1_m) * segment.length_m;
-      const int parts =
-          is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
-      for (int p = 0; p < parts; ++p) {
-        const double s0 = segment.length_m * p / parts, s1 = segment.length_m * (p + 1) / parts;
-        WorldPiece piece;
-        piece.strip = strip;
-        piece.is_arc = is_arc;
-        piece.start = segment.point_at(s0);
-        piece.end = segment.point_at(s1);
-        piece.heading_rad = segment.heading_at(s0);
-        piece.length_m = s1 - s0;
-        if (is_arc) {
-          piece.radius_m = 1.0 / std::abs(segment.curvature_1_m);
-          piece.turn_sign = segment.curvature_1_m > 0.0 ? 1.0 : -1.0;
-          const double h = piece.heading_rad;
-          piece.centre = piece.start + piece.turn_sign * piece.radius_m *
-                                           Eigen::Vector2d(-std::sin(h), std::cos(h));
+    const TapeStrip& tape = tapes[strip];
+    const auto& segments = tape.path.segments();
+    // Where there is tape along the path: [0, length] less the gaps.
+    std::vector<std::pair<double, double>> laid{{0.0, tape.path.length_m()}};
+    for (const auto& [gap_from, gap_to] : tape.gaps_m) {
+      std::vector<std::pair<double, double>> next;
+      for (const auto& [from, to] : laid) {
+        if (gap_to <= from || gap_from >= to) {
+          next.emplace_back(from, to);
+          continue;
         }
-        // A circle around the piece: chord midpoint, half chord plus the arc's sagitta bound.
-        piece.bound_centre = 0.5 * (piece.start + piece.end);
-        piece.bound_radius_m = 0.5 * piece.length_m + 1e-6;
-        pieces.push_back(piece);
+        if (gap_from > from) next.emplace_back(from, gap_from);
+        if (gap_to < to) next.emplace_back(gap_to, to);
       }
+      laid = next;
     }
-    if (pieces.size() > first_piece) {
-      pieces[first_piece].flat_start = true;
-      pieces.back().flat_end = true;
+    double segment_start_s = 0.0;
+    for (const control::PathSegment& segment : segments) {
+      const double segment_end_s = segment_start_s + segment.length_m;
+      for (const auto& [from, to] : laid) {
+        const double a = std::max(from, segment_start_s), b = std::min(to, segment_end_s);
+        if (b - a <= 1e-9) continue;
+        const bool is_arc = std::abs(segment.curvature_1_m) > 1e-12;
+        const double sweep_rad = std::abs(segment.curvature_1_m) * (b - a);
+        const int parts = is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
+        for (int p = 0; p < parts; ++p) {
+          const double s0 = a - segment_start_s + (b - a) * p / parts;
+          const double s1 = a - segment_start_s + (b - a) * (p + 1) / parts;
+          WorldPiece piece;
+          piece.strip = strip;
+          piece.is_arc = is_arc;
+          piece.start = segment.point_at(s0);
+          piece.end = segment.point_at(s1);
+          piece.heading_rad = segment.heading_at(s0);
+          piece.length_m = s1 - s0;
+          if (is_arc) {
+            piece.radius_m = 1.0 / std::abs(segment.curvature_1_m);
+            piece.turn_sign = segment.curvature_1_m > 0.0 ? 1.0 : -1.0;
+            const double h = piece.heading_rad;
+            piece.centre = piece.start + piece.turn_sign * piece.radius_m * Eigen::Vector2d(-std::sin(h), std::cos(h));
+          }
+          // Cut square where the tape starts, ends or is interrupted; rounded at joints.
+          piece.flat_start = p == 0 && std::abs(a - from) < 1e-9;
+          piece.flat_end = p == parts - 1 && std::abs(b - to) < 1e-9;
+          piece.bound_centre = 0.5 * (piece.start + piece.end);
+          piece.bound_radius_m = 0.5 * piece.length_m + 1e-6;
+          pieces.push_back(piece);
+        }
+      }
+      segment_start_s = segment_end_s;
     }
   }
   return pieces;

@@ -40,8 +40,8 @@ struct LocalPiece {
 };
 
 // The tape strips cut into pieces: lines, and arcs of at most 90 degrees (so that a point's
-// position along an arc is decided by two cross products). Flat ends where a strip starts and
-// ends; rounded joints between its pieces.
+// position along an arc is decided by two cross products), leaving out the strips' gaps. Flat
+// ends where a strip starts, ends or is interrupted; rounded joints between its pieces.
 std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes);
 
 // Distance from each of `count` floor points (vehicle frame) to a piece's centre line; a very
