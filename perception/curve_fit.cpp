@@ -40,9 +40,10 @@ Scored score(const CurveModel& m, const std::vector<Eigen::Vector2d>& points,
   Scored s;
   s.inliers.assign(points.size(), false);
   double sum = 0.0;
+  const CurveModel::Prepared curve = m.prepared();
   for (size_t i = 0; i < points.size(); ++i) {
     if (mask && !(*mask)[i]) continue;
-    const double d = m.signed_distance(points[i]);
+    const double d = curve.signed_distance(points[i]);
     if (std::abs(d) > threshold) continue;
     s.inliers[i] = true;
     ++s.count;
@@ -60,17 +61,21 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points
   for (int iteration = 0; iteration < 8; ++iteration) {
     Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
     Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+    // Numerical Jacobian: the three shifted models, prepared once per iteration.
     const double h[3] = {1e-6, 1e-6, 1e-4};
+    const CurveModel::Prepared base = m->prepared();
+    CurveModel::Prepared shifted[3];
+    for (int k = 0; k < 3; ++k) {
+      CurveModel plus = *m;
+      double* parameter = k == 0 ? &plus.e_d_m : k == 1 ? &plus.heading_rad : &plus.curvature_1_m;
+      *parameter += h[k];
+      shifted[k] = plus.prepared();
+    }
     for (size_t i = 0; i < points.size(); ++i) {
       if (!use[i]) continue;
-      const double r = m->signed_distance(points[i]);
+      const double r = base.signed_distance(points[i]);
       Eigen::Vector3d j;
-      for (int k = 0; k < 3; ++k) {
-        CurveModel plus = *m;
-        double* parameter = k == 0 ? &plus.e_d_m : k == 1 ? &plus.heading_rad : &plus.curvature_1_m;
-        *parameter += h[k];
-        j[k] = (plus.signed_distance(points[i]) - r) / h[k];
-      }
+      for (int k = 0; k < 3; ++k) j[k] = (shifted[k].signed_distance(points[i]) - r) / h[k];
       if (!free_curvature) j[2] = 0.0;
       const double w = 1.0 / (1.0 + (r / scale) * (r / scale));  // Cauchy weight
       jtj += w * j * j.transpose();
@@ -94,9 +99,10 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points
 double correlation_inflation(const CurveModel& m, const std::vector<Eigen::Vector2d>& points,
                              const std::vector<bool>& inliers) {
   std::vector<std::pair<double, double>> by_position;  // (arc position, residual)
+  const CurveModel::Prepared curve = m.prepared();
   for (size_t i = 0; i < points.size(); ++i) {
     if (inliers[i])
-      by_position.emplace_back(m.arc_position(points[i]), m.signed_distance(points[i]));
+      by_position.emplace_back(m.arc_position(points[i]), curve.signed_distance(points[i]));
   }
   std::sort(by_position.begin(), by_position.end());
   const size_t n = by_position.size();
@@ -129,12 +135,7 @@ Eigen::Vector2d CurveModel::normal() const {
 Eigen::Vector2d CurveModel::foot_point() const { return -e_d_m * normal(); }
 
 double CurveModel::signed_distance(const Eigen::Vector2d& p) const {
-  const Eigen::Vector2d q = p - foot_point();
-  const double u = q.dot(normal());
-  const double r2 = q.squaredNorm();
-  const double k = curvature_1_m;
-  const double root = std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2));
-  return (2.0 * u - k * r2) / (1.0 + root);
+  return prepared().signed_distance(p);
 }
 
 double CurveModel::arc_position(const Eigen::Vector2d& p) const {
@@ -201,7 +202,11 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   cv::RNG rng(0xC0FFEE);
   double best_cost = std::numeric_limits<double>::infinity();
   CurveModel best;
-  for (int it = 0; it < options.ransac_iterations; ++it) {
+  // Adaptive stop: once the best hypothesis has a fraction w of the sampled points within the
+  // threshold, log(1 - 0.999) / log(1 - w^3) draws would have found an all-inlier sample.
+  int needed = options.ransac_iterations;
+  const int sampled = (n + stride - 1) / stride;
+  for (int it = 0; it < std::min(needed, options.ransac_iterations); ++it) {
     const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)],
               c = usable[rng.uniform(0, n)];
     std::optional<CurveModel> model;
@@ -213,11 +218,21 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
     }
     if (!model || std::abs(model->curvature_1_m) > options.max_curvature_1_m) continue;
     double cost = 0.0;
-    for (int k = 0; k < n; k += stride)
-      cost += std::min(std::pow(model->signed_distance(points[usable[k]]), 2), t2);
+    int within = 0;
+    const CurveModel::Prepared curve = model->prepared();
+    for (int k = 0; k < n; k += stride) {
+      const double d2 = std::pow(curve.signed_distance(points[usable[k]]), 2);
+      cost += std::min(d2, t2);
+      if (d2 <= t2) ++within;
+    }
     if (cost < best_cost) {
       best_cost = cost;
       best = *model;
+      const double w = static_cast<double>(within) / sampled;
+      if (w > 0.0) {
+        const double draws = std::log(1.0 - 0.999) / std::log(std::max(1e-12, 1.0 - w * w * w));
+        needed = std::max(12, static_cast<int>(std::ceil(draws)));
+      }
     }
   }
   if (!std::isfinite(best_cost)) return fit;

@@ -1,6 +1,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -34,6 +36,21 @@ struct CurveModel {
   Eigen::Vector2d point_at(double s_m) const;
   // The same curve travelled the other way.
   CurveModel reversed() const;
+
+  // The model with its foot point and directions computed once, for loops over many points.
+  struct Prepared {
+    Eigen::Vector2d foot, tangent, normal;
+    double curvature_1_m;
+    double signed_distance(const Eigen::Vector2d& p) const {
+      const Eigen::Vector2d q = p - foot;
+      const double u = q.dot(normal);
+      const double r2 = q.squaredNorm();
+      const double k = curvature_1_m;
+      const double root = std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2));
+      return (2.0 * u - k * r2) / (1.0 + root);
+    }
+  };
+  Prepared prepared() const { return {foot_point(), tangent(), normal(), curvature_1_m}; }
 };
 
 struct CurveFit {

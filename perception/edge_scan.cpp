@@ -28,7 +28,8 @@ void sample_contrast(const unsigned char* first, size_t stride, int count, int c
 // From `start` (on the tape), steps in direction `step` while the profile stays at or above
 // `threshold`, crossing dips below it that are at most max_dip samples long (worn spots);
 // returns the first sample beyond the tape's edge (or the profile's end).
-int walk_to_edge(const std::vector<float>& profile, int start, int step, float threshold, int max_dip) {
+int walk_to_edge(const std::vector<float>& profile, int start, int step, float threshold,
+                 int max_dip) {
   const int n = static_cast<int>(profile.size());
   int i = start;
   while (true) {

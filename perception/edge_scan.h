@@ -22,8 +22,8 @@ struct EdgeScanOptions {
   int flank_px = 0;   // and at least this far (set from the tape width in pixels:
                       // the coarse bar response covers only the tape's core)
   float min_contrast_to_noise = 5.0f;
-  int max_dip_px = 0;                // worn spots: dips inside the tape up to this long are crossed
-  int step = 1;  // scan every step-th line
+  int max_dip_px = 0;  // worn spots: dips inside the tape up to this long are crossed
+  int step = 1;        // scan every step-th line
 };
 
 // Scans one coarse region at full resolution along rows (along_rows) or columns. Every run of

@@ -35,7 +35,8 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
   // the inlier band grows with the width so that such a seam does not split a line.
   const double reference_width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
   options_.lines.fit.inlier_threshold_m =
-      std::max(options_.lines.fit.inlier_threshold_m, 0.12 * reference_width_m);  options_.lines.full_span_m = floor_map_.view_radius_m();
+      std::max(options_.lines.fit.inlier_threshold_m, 0.12 * reference_width_m);
+  options_.lines.full_span_m = floor_map_.view_radius_m();
   options_.lines.scan_spacing_m = footprint_m * std::max(1, options_.scan.step);
 }
 

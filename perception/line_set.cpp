@@ -24,7 +24,8 @@ double chord_width(const Chord& chord, const CurveModel& model) {
 
 }  // namespace
 
-std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords, const DetectedLine& line,
+std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords,
+                                                  const DetectedLine& line,
                                                   const LineSetOptions& options, double sigmas) {
   std::vector<double> distances;
   for (int index : line.chords) distances.push_back(chords[index].centre().norm());
@@ -94,14 +95,15 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     // How much of the evidence near this line it explains: chords whose centre lies within a
     // tape width of it but are not inliers speak against it.
     int near = 0;
+    const CurveModel::Prepared curve = fit.model.prepared();
     for (size_t i = 0; i < centres.size(); ++i) {
-      if (std::abs(fit.model.signed_distance(centres[i])) < std::max(line.width_m, 0.005)) ++near;
+      if (std::abs(curve.signed_distance(centres[i])) < std::max(line.width_m, 0.005)) ++near;
     }
     const double inlier_fraction = static_cast<double>(fit.inlier_count) / std::max(1, near);
     if (span_m < options.min_visible_length_m) {
       reject("visible tape too short");
       continue;
-    }    // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
+    }  // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
     // texture blobs has it only here and there.
     line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
     if (line.coverage < options.min_coverage) {
@@ -128,9 +130,10 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     const double span_factor = std::min(1.0, span_m / options.full_span_m);
     const double width_factor =
         options.expected_width_m > 0.0 ? std::exp(-0.5 * std::pow(width_error / 0.15, 2)) : 1.0;
-    const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));    const double coverage_factor = std::min(1.0, line.coverage / 0.6);
-    line.confidence =
-        std::min(1.0, inlier_fraction) * span_factor * width_factor * residual_factor * coverage_factor;
+    const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));
+    const double coverage_factor = std::min(1.0, line.coverage / 0.6);
+    line.confidence = std::min(1.0, inlier_fraction) * span_factor * width_factor *
+                      residual_factor * coverage_factor;
     if (line.confidence < options.min_confidence) {
       reject("evidence too weak");
       continue;

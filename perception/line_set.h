@@ -24,7 +24,7 @@ struct DetectedLine {
   double residual_rms_m = 0.0;
   double s_min_m = 0.0, s_max_m = 0.0;  // extent of the evidence along the curve
   int points_used = 0;
-  double coverage = 0.0;      // evidence per scan line over the span (1: every line crossed)
+  double coverage = 0.0;  // evidence per scan line over the span (1: every line crossed)
   double confidence = 0.0;
   std::vector<int> chords;  // indices of the chords that support it
   bool open_start = false;  // the evidence runs into the image border at s_min / s_max:
@@ -39,9 +39,10 @@ struct LineSetOptions {
   double width_tolerance = 0.35;        // accepted |measured - expected| / expected
   double width_spread_tolerance = 0.3;  // accepted 10-90 % width range / median width
   double min_inlier_fraction = 0.5;     // of the chords near the line
-  double min_confidence = 0.1;  double full_span_m = 0.15;           // evidence this long counts as fully seen
-  double scan_spacing_m = 0.0004;      // floor distance between scan lines (one chord each)
-  double min_coverage = 0.25;          // chords per scan line along the span: tape gives ~1
+  double min_confidence = 0.1;
+  double full_span_m = 0.15;       // evidence this long counts as fully seen
+  double scan_spacing_m = 0.0004;  // floor distance between scan lines (one chord each)
+  double min_coverage = 0.25;      // chords per scan line along the span: tape gives ~1
   CurveFitOptions fit;
 };
 
@@ -50,8 +51,10 @@ struct LineSetOptions {
 // Fits the nearer half of a line's chords (by distance from the vehicle origin) and returns that
 // model, oriented as the line's, when its curvature differs from the whole line's by more than
 // `sigmas` of its own uncertainty; nullopt when the whole-line model stands.
-std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords, const DetectedLine& line,
-                                                  const LineSetOptions& options, double sigmas = 4.0);
+std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords,
+                                                  const DetectedLine& line,
+                                                  const LineSetOptions& options,
+                                                  double sigmas = 4.0);
 
 // Up to max_lines lines through the chords' centres, found one after the other (the best
 // supported first), each checked for width, width consistency, length and straightness of

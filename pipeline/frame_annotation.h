@@ -14,7 +14,7 @@ namespace agv::pipeline {
 // (thick), the junction and its branches (arrows), and e_d, e_theta, curvature, confidence as
 // text; "NO LINE" and the reason when none was found. `caption` goes in the top-left corner.
 cv::Mat annotate_frame(const cv::Mat& frame, const perception::CameraModel& camera,
-                       const perception::LineDetection& detection, const LineMeasurement& measurement,
-                       const std::string& caption);
+                       const perception::LineDetection& detection,
+                       const LineMeasurement& measurement, const std::string& caption);
 
 }  // namespace agv::pipeline

@@ -49,18 +49,20 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
       const double vignette = 1.0 - fx.vignetting * (du * du + dv * dv) / corner_sq;
       const double gradient = 1.0 + fx.illumination_gradient * (du / w * gx + dv / h * gy);
       // The vehicle's shadow: a soft half-plane across the image.
-      const double across = (du * std::cos(fx.shadow_direction_rad) + dv * std::sin(fx.shadow_direction_rad)) /
-                            (0.5 * std::max(w, h));
+      const double across =
+          (du * std::cos(fx.shadow_direction_rad) + dv * std::sin(fx.shadow_direction_rad)) /
+          (0.5 * std::max(w, h));
       const double softness = std::max(1e-3, fx.shadow_softness * w / (0.5 * std::max(w, h)));
       const double shadowed = 0.5 * (1.0 + std::tanh((across - fx.shadow_offset) / softness));
       const double shadow = 1.0 - fx.shadow_darkness * shadowed;
       const bool sees_floor = std::isfinite(floor_map_.x_m().at<float>(v, u));
-      gain_.at<float>(v, u) = sees_floor ? static_cast<float>(fx.brightness * vignette * gradient * shadow) : 0.0f;
+      gain_.at<float>(v, u) =
+          sees_floor ? static_cast<float>(fx.brightness * vignette * gradient * shadow) : 0.0f;
       // A specular glare: a Gaussian spot of added light.
       const double gu = u - fx.specular_x * (w - 1), gv = v - fx.specular_y * (h - 1);
       const double radius_px = std::max(1.0, fx.specular_radius * w);
-      glare_.at<float>(v, u) =
-          static_cast<float>(fx.specular_strength * std::exp(-(gu * gu + gv * gv) / (2.0 * radius_px * radius_px)));
+      glare_.at<float>(v, u) = static_cast<float>(
+          fx.specular_strength * std::exp(-(gu * gu + gv * gv) / (2.0 * radius_px * radius_px)));
     }
   }
   // Worn tape: where a second, finer floor-texture field exceeds the level that a fraction
@@ -153,7 +155,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   const std::vector<SubPose> texture_poses = sub_poses(texture_samples, false);
 
   const int strips = static_cast<int>(scene_.tapes.size());
-  const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)), centre_s = static_cast<float>(std::sin(pose.yaw_rad));
+  const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)),
+              centre_s = static_cast<float>(std::sin(pose.yaw_rad));
   const float centre_tx = static_cast<float>(pose.x_m), centre_ty = static_cast<float>(pose.y_m);
   const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
   const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
@@ -266,8 +269,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       unsigned char* out = planes[ch].ptr<unsigned char>(v);
       const float* c = colour[ch];
       for (int u = 0; u < w; ++u) {
-        const float value =
-            std::min(std::max(c[u] * gain[u] + glare[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
+        const float value = std::min(
+            std::max(c[u] * gain[u] + glare[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
         out[u] = static_cast<unsigned char>(static_cast<int>(value));
       }
     }

@@ -43,7 +43,7 @@ class FrameRenderer {
   cv::Mat gain_;   // CV_32F: vignetting x illumination gradient x shadow x brightness
   cv::Mat glare_;  // CV_32F: specular glare added, grey levels
   std::vector<float> wear_level_;  // per strip: texture level above which the tape is worn
-  cv::Mat noise_bank_;                 // CV_8S: standard normal samples x kNoiseScale
+  cv::Mat noise_bank_;             // CV_8S: standard normal samples x kNoiseScale
   std::vector<WorldPiece> pieces_;
   std::vector<cv::Mat> inverse_ramp_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)

@@ -19,8 +19,8 @@ namespace agv::pipeline {
 struct FloorMarks {
   double seam_spacing_m = 0.0;  // tile seams every this many metres, along x and y (0: none)
   double seam_width_m = 0.003;
-  double seam_darkness = 0.3;   // fraction of the floor's brightness they take away
-  double marks_per_m2 = 0.0;    // stray marks: scuffs, tyre marks, short strokes
+  double seam_darkness = 0.3;  // fraction of the floor's brightness they take away
+  double marks_per_m2 = 0.0;   // stray marks: scuffs, tyre marks, short strokes
   double mark_darkness = 0.4;
 };
 
@@ -63,8 +63,9 @@ struct Scenario {
   int latency_frames = 1;
   double start_s_m = 0.5;                           // where along the path the vehicle starts
   double initial_e_theta_rad = 0.0872664625997165;  // 5 deg
-  double initial_e_d_m = 0.010;  control::Path path;
-  TapeStrip tape;  // its path is `path`
+  double initial_e_d_m = 0.010;
+  control::Path path;
+  TapeStrip tape;                          // its path is `path`
   std::vector<control::Path> extra_paths;  // more tape of the same kind: branches, crossings
   FloorMarks marks;
   FloorStyle floor;

@@ -13,10 +13,10 @@ namespace agv::pipeline {
 struct TapeStrip {
   control::Path path;
   double width_m = 0.025;
-  cv::Vec3d color_bgr = {170.0, 90.0, 25.0};  // blue tape
-  double edge_softness_m = 0.0003;            // width of the soft edge (paper fibres, glue)
-  double texture_contrast = 0.03;             // relative brightness variation of the tape
-  double wear = 0.0;                          // fraction of the tape worn through to the floor
+  cv::Vec3d color_bgr = {170.0, 90.0, 25.0};      // blue tape
+  double edge_softness_m = 0.0003;                // width of the soft edge (paper fibres, glue)
+  double texture_contrast = 0.03;                 // relative brightness variation of the tape
+  double wear = 0.0;                              // fraction of the tape worn through to the floor
   std::vector<std::pair<double, double>> gaps_m;  // [from, to] arc lengths with no tape
 };
 

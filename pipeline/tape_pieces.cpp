@@ -37,7 +37,8 @@ std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes) {
         if (b - a <= 1e-9) continue;
         const bool is_arc = std::abs(segment.curvature_1_m) > 1e-12;
         const double sweep_rad = std::abs(segment.curvature_1_m) * (b - a);
-        const int parts = is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
+        const int parts =
+            is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
         for (int p = 0; p < parts; ++p) {
           const double s0 = a - segment_start_s + (b - a) * p / parts;
           const double s1 = a - segment_start_s + (b - a) * (p + 1) / parts;
@@ -52,7 +53,8 @@ std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes) {
             piece.radius_m = 1.0 / std::abs(segment.curvature_1_m);
             piece.turn_sign = segment.curvature_1_m > 0.0 ? 1.0 : -1.0;
             const double h = piece.heading_rad;
-            piece.centre = piece.start + piece.turn_sign * piece.radius_m * Eigen::Vector2d(-std::sin(h), std::cos(h));
+            piece.centre = piece.start + piece.turn_sign * piece.radius_m *
+                                             Eigen::Vector2d(-std::sin(h), std::cos(h));
           }
           // Cut square where the tape starts, ends or is interrupted; rounded at joints.
           piece.flat_start = p == 0 && std::abs(a - from) < 1e-9;
