@@ -28,7 +28,9 @@ const std::set<std::string> kOwnKeys = {"image_width",
                                         "mount_views",
                                         "mount_calibration_time",
                                         "mount_calibration_method",
-                                        "calibration_method"};
+                                        "calibration_method",
+                                        "tape_width_m",
+                                        "tape_color_bgr"};
 const std::set<std::string> kOpenCvSampleKeys = {"board_width",
                                                  "board_height",
                                                  "square_size",
@@ -270,6 +272,18 @@ CameraFile parse_camera_text(const std::string& yaml_text, const std::string& so
     validate_mount(mount, source);
     camera.mount = mount;
   }
+  if (!root["tape_width_m"].empty()) {
+    const double width = read_optional_real(root, "tape_width_m", source, 0.0);
+    if (!(width > 0.001 && width < 0.5))
+      fail(source, "tape_width_m", "expected a width between 0.001 and 0.5 m");
+    camera.tape_width_m = width;
+  }
+  if (!root["tape_color_bgr"].empty()) {
+    const Eigen::Vector3d bgr = read_vector3(root, "tape_color_bgr", source);
+    if (bgr.minCoeff() < 0.0 || bgr.maxCoeff() > 255.0)
+      fail(source, "tape_color_bgr", "expected values 0-255");
+    camera.tape_color_bgr = cv::Vec3d(bgr.x(), bgr.y(), bgr.z());
+  }
   camera.intrinsics_calibration = read_calibration_info(
       root, source,
       {"avg_reprojection_error", "nr_of_frames", "calibration_time", "calibration_method"});
@@ -322,6 +336,11 @@ std::string camera_file_text(const CameraFile& camera) {
     if (mc.views > 0) storage << "mount_views" << mc.views;
     if (!mc.date.empty()) storage << "mount_calibration_time" << mc.date;
     if (!mc.method.empty()) storage << "mount_calibration_method" << mc.method;
+  }
+  if (camera.tape_width_m) storage << "tape_width_m" << *camera.tape_width_m;
+  if (camera.tape_color_bgr) {
+    const cv::Vec3d& bgr = *camera.tape_color_bgr;
+    storage << "tape_color_bgr" << std::vector<double>{bgr[0], bgr[1], bgr[2]};
   }
   return storage.releaseAndGetString();
 }

@@ -24,6 +24,10 @@ struct CameraFile {
   std::optional<MountPose> mount;
   CalibrationInfo intrinsics_calibration;
   CalibrationInfo mount_calibration;
+  // What this camera is used to look at, as hints for perception (optional keys
+  // tape_width_m and tape_color_bgr).
+  std::optional<double> tape_width_m;
+  std::optional<cv::Vec3d> tape_color_bgr;
 };
 
 // Reads and checks a camera file. Throws InputError naming the file and the field on anything

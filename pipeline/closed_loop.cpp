@@ -43,7 +43,8 @@ control::LineTracker make_tracker(const Scenario& s) {
   options.path_speed_m_s = s.path_speed_m_s;
   options.line_lost_hold_s = s.controller.line_lost_hold_s;
   options.latency_compensation = s.controller.latency_compensation;
-  return control::LineTracker(make_controller(s), s.vehicle.limits, options, start_twist(s));
+  return control::LineTracker(make_controller(s.controller), s.vehicle.limits, options,
+                              start_twist(s));
 }
 
 // Ground truth of a pose, keeping the foot point near the previous one.
@@ -83,13 +84,12 @@ TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose,
 
 }  // namespace
 
-std::unique_ptr<control::PathController> make_controller(const Scenario& scenario) {
-  if (scenario.controller.kind == "pid")
-    return std::make_unique<control::PidController>(scenario.controller.pid);
-  return std::make_unique<control::FiniteStepController>(scenario.controller.finite_step);
+std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config) {
+  if (config.kind == "pid") return std::make_unique<control::PidController>(config.pid);
+  return std::make_unique<control::FiniteStepController>(config.finite_step);
 }
 
-RunResult run_lockstep(const Scenario& s, const Progress& progress) {
+RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameSink& sink) {
   const Clock::time_point wall_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
   const FrameRenderer renderer(camera, render_scene(s));
@@ -121,6 +121,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress) {
     result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
     result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();
     result.frames.push_back({stamped.frame_index, t, truth, stamped.measurement});
+    if (sink) sink(result.frames.back(), pose, frame);
 
     in_flight.push_back(stamped);
     while (!in_flight.empty() &&

@@ -64,11 +64,16 @@ struct RunResult {
 // Reports progress as a fraction in [0, 1]; may be empty.
 using Progress = std::function<void(double)>;
 
-std::unique_ptr<control::PathController> make_controller(const Scenario& scenario);
+// Receives every rendered frame with its ground truth (for recording datasets); may be empty.
+using FrameSink =
+    std::function<void(const FrameRecord& record, const Pose2& pose, const cv::Mat& frame)>;
+
+std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config);
 
 // Deterministic: one frame per control period; the measurement of the frame taken at period k
 // reaches the controller at period k + latency_frames, through the bounded queue.
-RunResult run_lockstep(const Scenario& scenario, const Progress& progress = {});
+RunResult run_lockstep(const Scenario& scenario, const Progress& progress = {},
+                       const FrameSink& sink = {});
 
 // A camera thread renders and measures frames on its own clock and pushes them into the bounded
 // queue; a control thread runs every Ts, takes the newest measurement and logs its age.

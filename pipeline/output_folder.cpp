@@ -25,15 +25,16 @@ fs::path timestamped_run_folder() {
 
 }  // namespace
 
-OutputFolder::OutputFolder(const std::string& target) {
+OutputFolder::OutputFolder(const std::string& target, const std::string& marker) {
   target_ = target.empty() ? timestamped_run_folder() : fs::path(target);
   std::error_code error;
   if (fs::exists(target_, error)) {
     if (!fs::is_directory(target_, error))
       throw InputError(target_.string() + ": exists and is not a folder");
-    if (!fs::is_empty(target_, error) && !fs::exists(target_ / "summary.json", error)) {
+    if (!fs::is_empty(target_, error) && !fs::exists(target_ / marker, error)) {
       throw InputError(target_.string() +
-                       ": folder exists and does not hold a previous run; choose another --out");
+                       ": folder exists and does not hold a previous result (no " + marker +
+                       "); choose another --out");
     }
   }
   const fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");

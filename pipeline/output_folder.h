@@ -11,8 +11,9 @@ namespace agv::pipeline {
 class OutputFolder {
  public:
   // `target` empty: runs/<YYYYmmdd-HHMMSS>[-N] under the working directory. An existing target
-  // is replaced only if it holds a previous run (a summary.json); otherwise InputError.
-  explicit OutputFolder(const std::string& target);
+  // is replaced only if it holds a previous result (a file named `marker`, summary.json for
+  // runs); otherwise InputError.
+  explicit OutputFolder(const std::string& target, const std::string& marker = "summary.json");
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;

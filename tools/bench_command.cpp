@@ -70,8 +70,9 @@ int run_bench(const BenchArgs& args) {
   const perception::LineEstimator estimator(camera, pipeline::perception_options(scenario));
   control::LineTracker::Options tracker_options;
   tracker_options.path_speed_m_s = scenario.path_speed_m_s;
-  control::LineTracker tracker(pipeline::make_controller(scenario), scenario.vehicle.limits,
-                               tracker_options, BodyTwist{scenario.path_speed_m_s, 0.0, 0.0});
+  control::LineTracker tracker(pipeline::make_controller(scenario.controller),
+                               scenario.vehicle.limits, tracker_options,
+                               BodyTwist{scenario.path_speed_m_s, 0.0, 0.0});
 
   std::vector<double> render_us, perceive_us, baseline_us, control_us;
   cv::RNG rng(12345);

@@ -6,6 +6,8 @@
 
 #include "common/input_error.h"
 #include "tools/bench_command.h"
+#include "tools/record_command.h"
+#include "tools/replay_command.h"
 #include "tools/simulate_command.h"
 
 int main(int argc, char** argv) {
@@ -18,6 +20,10 @@ int main(int argc, char** argv) {
   agv::tools::BenchArgs bench;
   agv::tools::add_simulate_command(app, simulate);
   agv::tools::add_bench_command(app, bench);
+  agv::tools::RecordArgs record;
+  agv::tools::ReplayArgs replay;
+  agv::tools::add_record_command(app, record);
+  agv::tools::add_replay_command(app, replay);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -28,6 +34,8 @@ int main(int argc, char** argv) {
   try {
     if (command == "simulate") return agv::tools::run_simulate(simulate);
     if (command == "bench") return agv::tools::run_bench(bench);
+    if (command == "record") return agv::tools::run_record(record);
+    if (command == "replay") return agv::tools::run_replay_command(replay);
   } catch (const agv::InputError& e) {
     std::cerr << "agv " << command << ": error: " << e.what() << '\n';
     return 2;

@@ -16,6 +16,7 @@
 #include "tools/embedded_files.h"
 #include "tools/progress_bar.h"
 #include "tools/run_plots.h"
+#include "tools/scenario_source.h"
 
 namespace agv::tools {
 namespace {
@@ -53,18 +54,7 @@ void add_simulate_command(CLI::App& app, SimulateArgs& args) {
 }
 
 int run_simulate(const SimulateArgs& args) {
-  pipeline::ScenarioText source;
-  if (args.scenario_file.empty()) {
-    source.text = embedded_files().at("default_scenario.yaml");
-    source.name = "built-in default scenario";
-  } else {
-    source = pipeline::read_scenario_file(args.scenario_file);
-  }
-  source.builtin_files = embedded_files();
-  std::vector<std::pair<std::string, std::string>> overrides;
-  for (const std::string& option : args.overrides)
-    overrides.push_back(pipeline::split_override(option));
-  const pipeline::Scenario scenario = pipeline::load_scenario(source, overrides);
+  const pipeline::Scenario scenario = load_scenario_for_command(args.scenario_file, args.overrides);
 
   pipeline::OutputFolder folder(args.out_dir);
   pipeline::RunResult run;
