@@ -29,36 +29,72 @@ CurveModel oriented(const CurveModel& m, const Eigen::Vector2d& near,
   return ahead.dot(forward) >= 0.0 ? m : m.reversed();
 }
 
-struct Scored {
-  std::vector<bool> inliers;
-  int count = 0;
-  double rms = 0.0;
+// One observation of a curve: a point that should lie at signed distance `offset` from it (0: on
+// it, a chord's midpoint; plus or minus half the tape width: a tape edge), of chord `chord`.
+struct Observation {
+  Eigen::Vector2d p;
+  double offset;
+  int chord;
+  bool first;  // the chord's first edge (for edges)
 };
 
-Scored score(const CurveModel& m, const std::vector<Eigen::Vector2d>& points,
-             const std::vector<bool>* mask, double threshold) {
+double residual(const CurveModel::Prepared& curve, const Observation& o) {
+  return curve.signed_distance(o.p) - o.offset;
+}
+
+struct Scored {
+  std::vector<bool> observation_inliers;
+  int count = 0;          // inlier observations
+  double rms = 0.0;       // robust scale (1.4826 x median |r|): for confidence
+  double plain_rms = 0.0; // root mean square: for uncertainties, which the tails belong to
+};
+
+Scored score(const CurveModel& m, const std::vector<Observation>& obs, double threshold) {
   Scored s;
-  s.inliers.assign(points.size(), false);
+  s.observation_inliers.assign(obs.size(), false);
   double sum = 0.0;
   const CurveModel::Prepared curve = m.prepared();
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (mask && !(*mask)[i]) continue;
-    const double d = curve.signed_distance(points[i]);
-    if (std::abs(d) > threshold) continue;
-    s.inliers[i] = true;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    const double r = residual(curve, obs[i]);
+    if (std::abs(r) > threshold) continue;
+    s.observation_inliers[i] = true;
     ++s.count;
-    sum += d * d;
+    sum += r * r;
   }
-  s.rms = s.count ? std::sqrt(sum / s.count) : 0.0;
+  s.plain_rms = s.count ? std::sqrt(sum / s.count) : 0.0;
+  // A robust scale: 1.4826 x the median absolute residual of the inliers (inliers within a
+  // generous band still include some far edges of merged chords).
+  std::vector<double> magnitudes;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    if (s.observation_inliers[i]) magnitudes.push_back(std::abs(residual(curve, obs[i])));
+  }
+  if (!magnitudes.empty()) {
+    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+    s.rms = 1.4826 * magnitudes[magnitudes.size() / 2];
+  }
   return s;
 }
 
-// Weighted Gauss-Newton on (e_d, heading, curvature) or (e_d, heading) with the curvature held.
-// Returns the normal matrix of the last step (for the covariance).
-Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points,
-                       const std::vector<bool>& use, bool free_curvature, double scale) {
+// Weighted Levenberg-Marquardt on (e_d, heading, curvature), or (e_d, heading) with the
+// curvature held, with Cauchy weights of scale `scale`. A step is taken only if it lowers the
+// weighted cost; otherwise the damping grows. Returns the normal matrix at the solution (for the
+// covariance).
+Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs, const std::vector<bool>& use,
+                       bool free_curvature, double scale) {
+  auto cost_of = [&](const CurveModel& model) {
+    const CurveModel::Prepared curve = model.prepared();
+    double cost = 0.0;
+    for (size_t i = 0; i < obs.size(); ++i) {
+      if (!use[i]) continue;
+      const double r = residual(curve, obs[i]) / scale;
+      cost += std::log1p(r * r);  // the Cauchy loss whose weights are used below
+    }
+    return cost;
+  };
   Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
-  for (int iteration = 0; iteration < 8; ++iteration) {
+  double lambda = 1e-3;
+  double cost = cost_of(*m);
+  for (int iteration = 0; iteration < 20; ++iteration) {
     Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
     Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
     // Numerical Jacobian: the three shifted models, prepared once per iteration.
@@ -71,11 +107,11 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points
       *parameter += h[k];
       shifted[k] = plus.prepared();
     }
-    for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t i = 0; i < obs.size(); ++i) {
       if (!use[i]) continue;
-      const double r = base.signed_distance(points[i]);
+      const double r = residual(base, obs[i]);
       Eigen::Vector3d j;
-      for (int k = 0; k < 3; ++k) j[k] = (shifted[k].signed_distance(points[i]) - r) / h[k];
+      for (int k = 0; k < 3; ++k) j[k] = (residual(shifted[k], obs[i]) - r) / h[k];
       if (!free_curvature) j[2] = 0.0;
       const double w = 1.0 / (1.0 + (r / scale) * (r / scale));  // Cauchy weight
       jtj += w * j * j.transpose();
@@ -83,45 +119,70 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Eigen::Vector2d>& points
     }
     if (!free_curvature) jtj(2, 2) = 1.0;
     normal = jtj;
-    const Eigen::Vector3d step = jtj.ldlt().solve(-jtr);
-    if (!step.allFinite()) break;
-    m->e_d_m += step[0];
-    m->heading_rad = wrap_angle_rad(m->heading_rad + step[1]);
-    if (free_curvature) m->curvature_1_m += step[2];
-    if (step.head<2>().norm() < 1e-10 && std::abs(step[2]) < 1e-8) break;
+    bool improved = false;
+    for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
+      Eigen::Matrix3d damped = jtj;
+      damped.diagonal() += lambda * jtj.diagonal().cwiseMax(1e-12);
+      const Eigen::Vector3d step = damped.ldlt().solve(-jtr);
+      if (!step.allFinite()) break;
+      CurveModel trial = *m;
+      trial.e_d_m += step[0];
+      trial.heading_rad = wrap_angle_rad(trial.heading_rad + step[1]);
+      if (free_curvature) trial.curvature_1_m += step[2];
+      const double trial_cost = cost_of(trial);
+      if (trial_cost <= cost) {
+        const bool converged = step.head<2>().norm() < 1e-10 && std::abs(step[2]) < 1e-8;
+        *m = trial;
+        cost = trial_cost;
+        lambda = std::max(1e-7, lambda * 0.1);
+        improved = true;
+        if (converged) return normal;
+      } else {
+        lambda *= 10.0;
+      }
+    }
+    if (!improved) break;
   }
   return normal;
 }
 
 // Factor by which correlated residuals inflate a variance computed as if they were independent:
 // 1 + 2 * sum of the residuals' autocorrelation over neighbours along the curve (the integrated
-// autocorrelation time), summed until it falls below 0.05.
-double correlation_inflation(const CurveModel& m, const std::vector<Eigen::Vector2d>& points,
-                             const std::vector<bool>& inliers) {
-  std::vector<std::pair<double, double>> by_position;  // (arc position, residual)
+// autocorrelation time), summed until it falls below 0.05. Each side of the tape (sign of the
+// distance) is one sequence.
+double correlation_inflation(const CurveModel& m, const std::vector<Observation>& obs, const std::vector<bool>& use) {
   const CurveModel::Prepared curve = m.prepared();
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (inliers[i])
-      by_position.emplace_back(m.arc_position(points[i]), curve.signed_distance(points[i]));
+  double total_tau = 0.0;
+  int sequences = 0;
+  for (int side : {-1, 0, 1}) {
+    std::vector<std::pair<double, double>> by_position;  // (arc position, residual)
+    for (size_t i = 0; i < obs.size(); ++i) {
+      if (!use[i]) continue;
+      const int obs_side = obs[i].offset == 0.0 ? 0 : (obs[i].offset > 0.0 ? 1 : -1);
+      if (obs_side != side) continue;
+      by_position.emplace_back(m.arc_position(obs[i].p), residual(curve, obs[i]));
+    }
+    const size_t n = by_position.size();
+    if (n < 8) continue;
+    std::sort(by_position.begin(), by_position.end());
+    double mean = 0.0, variance = 0.0;
+    for (const auto& [s, r] : by_position) mean += r;
+    mean /= n;
+    for (const auto& [s, r] : by_position) variance += (r - mean) * (r - mean);
+    double tau = 1.0;
+    if (variance > 0.0) {
+      for (size_t lag = 1; lag < n / 4; ++lag) {
+        double sum = 0.0;
+        for (size_t i = 0; i + lag < n; ++i) sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
+        const double rho = sum / variance;
+        if (rho < 0.05) break;
+        tau += 2.0 * rho;
+      }
+    }
+    total_tau += tau;
+    ++sequences;
   }
-  std::sort(by_position.begin(), by_position.end());
-  const size_t n = by_position.size();
-  if (n < 8) return 1.0;
-  double mean = 0.0, variance = 0.0;
-  for (const auto& [s, r] : by_position) mean += r;
-  mean /= n;
-  for (const auto& [s, r] : by_position) variance += (r - mean) * (r - mean);
-  if (variance <= 0.0) return 1.0;
-  double tau = 1.0;
-  for (size_t lag = 1; lag < n / 4; ++lag) {
-    double sum = 0.0;
-    for (size_t i = 0; i + lag < n; ++i)
-      sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
-    const double rho = sum / variance;
-    if (rho < 0.05) break;
-    tau += 2.0 * rho;
-  }
-  return tau;
+  return sequences ? total_tau / sequences : 1.0;
 }
 
 }  // namespace
@@ -187,8 +248,8 @@ std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::V
   return oriented(m, b, forward);
 }
 
-CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
-                          const CurveFitOptions& options, const std::vector<bool>* mask) {
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
+                          const std::vector<bool>* mask, const EdgeObservations* edges) {
   CurveFit fit;
   std::vector<int> usable;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -196,19 +257,29 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   }
   const int n = static_cast<int>(usable.size());
   if (n < 3) return fit;
-  // Score hypotheses on at most ~200 points; refine on all.
-  const int stride = std::max(1, n / 200);
+  // What the fit is scored and refined on: the points themselves, or the edges of their chords.
+  std::vector<Observation> obs;
+  for (int i : usable) {
+    if (edges) {
+      obs.push_back({(*edges->first)[i], (*edges->first_offset_m)[i], i, true});
+      obs.push_back({(*edges->second)[i], (*edges->second_offset_m)[i], i, false});
+    } else {
+      obs.push_back({points[i], 0.0, i, false});
+    }
+  }
+  const int m_obs = static_cast<int>(obs.size());
+  // Score hypotheses on at most ~400 observations; refine on all.
+  const int stride = std::max(1, m_obs / 400);
   const double t = options.inlier_threshold_m, t2 = t * t;
   cv::RNG rng(0xC0FFEE);
   double best_cost = std::numeric_limits<double>::infinity();
   CurveModel best;
-  // Adaptive stop: once the best hypothesis has a fraction w of the sampled points within the
-  // threshold, log(1 - 0.999) / log(1 - w^3) draws would have found an all-inlier sample.
+  // Adaptive stop: once the best hypothesis has a fraction w of the sampled observations within
+  // the threshold, log(1 - 0.999) / log(1 - w^3) draws would have found an all-inlier sample.
   int needed = options.ransac_iterations;
-  const int sampled = (n + stride - 1) / stride;
+  const int sampled = (m_obs + stride - 1) / stride;
   for (int it = 0; it < std::min(needed, options.ransac_iterations); ++it) {
-    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)],
-              c = usable[rng.uniform(0, n)];
+    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)], c = usable[rng.uniform(0, n)];
     std::optional<CurveModel> model;
     if (it % 3 == 0) {  // a third of the hypotheses are lines (two points)
       if ((points[c] - points[a]).norm() < 1e-4) continue;
@@ -220,10 +291,10 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
     double cost = 0.0;
     int within = 0;
     const CurveModel::Prepared curve = model->prepared();
-    for (int k = 0; k < n; k += stride) {
-      const double d2 = std::pow(curve.signed_distance(points[usable[k]]), 2);
-      cost += std::min(d2, t2);
-      if (d2 <= t2) ++within;
+    for (int k = 0; k < m_obs; k += stride) {
+      const double r2 = std::pow(residual(curve, obs[k]), 2);
+      cost += std::min(r2, t2);
+      if (r2 <= t2) ++within;
     }
     if (cost < best_cost) {
       best_cost = cost;
@@ -238,47 +309,52 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   if (!std::isfinite(best_cost)) return fit;
 
   // Refine: curvature free, then kept only if significant.
-  Scored scored = score(best, points, mask, t);
+  Scored scored = score(best, obs, t);
   CurveModel model = best;
   Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
   for (int round = 0; round < 4 && scored.count >= 3; ++round) {
-    normal = refine(&model, points, scored.inliers, /*free_curvature=*/true, t / 2.0);
-    Scored next = score(model, points, mask, t);
-    const bool settled = next.inliers == scored.inliers;
+    normal = refine(&model, obs, scored.observation_inliers, /*free_curvature=*/true, t / 2.0);
+    Scored next = score(model, obs, t);
+    const bool settled = next.observation_inliers == scored.observation_inliers;
     scored = std::move(next);
     if (settled) break;
   }
   if (scored.count < 3) return fit;
   // Residuals along a tape are correlated (floor texture, wear span many scan lines): the
   // independent-noise covariance is inflated by the integrated autocorrelation.
-  const double variance = std::max(scored.rms * scored.rms, 1e-12) *
-                          correlation_inflation(model, points, scored.inliers);
+  const double variance = std::max(scored.plain_rms * scored.plain_rms, 1e-12) *
+                          correlation_inflation(model, obs, scored.observation_inliers);
   const Eigen::Matrix3d covariance = normal.inverse() * variance;
   fit.curvature_sigma_1_m = std::sqrt(std::max(0.0, covariance(2, 2)));
-  fit.is_line =
-      std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
+  fit.is_line = std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
   if (fit.is_line) {
     model.curvature_1_m = 0.0;
     for (int round = 0; round < 3; ++round) {
-      refine(&model, points, scored.inliers, /*free_curvature=*/false, t / 2.0);
-      Scored next = score(model, points, mask, t);
-      const bool settled = next.inliers == scored.inliers;
+      refine(&model, obs, scored.observation_inliers, /*free_curvature=*/false, t / 2.0);
+      Scored next = score(model, obs, t);
+      const bool settled = next.observation_inliers == scored.observation_inliers;
       scored = std::move(next);
       if (settled || scored.count < 3) break;
     }
   }
   if (scored.count < 3) return fit;
-  // Orientation from the inliers' middle.
+  // Chords with an inlier observation are the curve's; the orientation comes from their middle.
+  fit.inliers.assign(points.size(), false);
+  if (edges) fit.edge_inliers.assign(points.size(), 0);
+  for (size_t k = 0; k < obs.size(); ++k) {
+    if (!scored.observation_inliers[k]) continue;
+    fit.inliers[obs[k].chord] = true;
+    if (edges) fit.edge_inliers[obs[k].chord] |= obs[k].first ? 1 : 2;
+  }
+  fit.inlier_count = static_cast<int>(std::count(fit.inliers.begin(), fit.inliers.end(), true));
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
   for (size_t i = 0; i < points.size(); ++i) {
-    if (scored.inliers[i]) centroid += points[i];
+    if (fit.inliers[i]) centroid += points[i];
   }
-  centroid /= scored.count;
+  centroid /= std::max(1, fit.inlier_count);
   model = oriented(model, centroid, options.forward);
   fit.ok = true;
   fit.model = model;
-  fit.inliers = scored.inliers;
-  fit.inlier_count = scored.count;
   fit.rms_m = scored.rms;
   fit.s_min_m = std::numeric_limits<double>::infinity();
   fit.s_max_m = -fit.s_min_m;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -56,9 +57,10 @@ struct CurveModel {
 struct CurveFit {
   bool ok = false;
   CurveModel model;
-  std::vector<bool> inliers;
+  std::vector<bool> inliers;            // per point: it (or one of its edges) fits
+  std::vector<std::uint8_t> edge_inliers;  // with edges: bit 0 first edge fits, bit 1 second
   int inlier_count = 0;
-  double rms_m = 0.0;                   // residual RMS of the inliers
+  double rms_m = 0.0;              // robust residual scale of the inliers (1.4826 x median |r|)
   double curvature_sigma_1_m = 0.0;     // standard deviation of the curvature from the fit
   double s_min_m = 0.0, s_max_m = 0.0;  // extent of the inliers along the curve
   bool is_line = true;                  // curvature not significant: fitted as a straight line
@@ -74,12 +76,25 @@ struct CurveFitOptions {
   Eigen::Vector2d forward = Eigen::Vector2d::UnitX();
 };
 
+// The two edges of chords across a tape, for fits on edges: point i of `first` lies at signed
+// distance first_offset_m[i] from the centre curve (+ half the width on its left, - on its
+// right), and likewise for `second`. The sides come from a first fit on the midpoints; fixing
+// them keeps an edge from being explained by a curve on its wrong side.
+struct EdgeObservations {
+  const std::vector<Eigen::Vector2d>* first;
+  const std::vector<Eigen::Vector2d>* second;
+  const std::vector<double>* first_offset_m;
+  const std::vector<double>* second_offset_m;
+};
+
 // Robust fit of one curve to points (vehicle frame, metres): RANSAC on three-point circles and
-// two-point lines, scored by the truncated quadratic loss, then Gauss-Newton on the signed
-// distances of the inliers (Cauchy weights), the inlier set re-taken until it settles.
-// `mask` (optional) marks the points that may be used.
-CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
-                          const CurveFitOptions& options, const std::vector<bool>* mask = nullptr);
+// two-point lines through the points, scored by the truncated quadratic loss, then Gauss-Newton
+// (Cauchy weights), the inlier set re-taken until it settles. With `edges`, hypotheses still come
+// from the points (chord midpoints) but are scored and refined on the edges, each at half the
+// width from the curve: where a chord crosses a fork or a worn edge, its one good edge still
+// counts and the other is an outlier. `mask` (optional) marks the points that may be used.
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
+                          const std::vector<bool>* mask = nullptr, const EdgeObservations* edges = nullptr);
 
 // The curve through three points (a line when they are collinear), oriented along `forward`.
 std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,

@@ -144,7 +144,22 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     return best;
   };
   if (!junction || junction->branches.size() < 2) {
+    // Several lines that do not meet in view (a fork whose split point is out of view or
+    // merged): the choice applies to their directions at their near ends; one line: that one.
     followed.line = best_line();
+    if (lines.size() > 1) {
+      double best_score = -std::numeric_limits<double>::infinity();
+      for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
+        const double h = heading_at(lines[i].model, lines[i].s_min_m);
+        const double score = choice == BranchChoice::kLeft    ? h
+                             : choice == BranchChoice::kRight ? -h
+                                                              : -std::abs(h) - std::abs(lines[i].model.e_d_m) / 0.05;
+        if (score > best_score) {
+          best_score = score;
+          followed.line = i;
+        }
+      }
+    }
     followed.model = lines[followed.line].model;
     return followed;
   }

@@ -1,6 +1,7 @@
 #include "perception/line_set.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <string>
 
@@ -28,13 +29,13 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
                                                   const DetectedLine& line,
                                                   const LineSetOptions& options, double sigmas) {
   std::vector<double> distances;
-  for (int index : line.chords) distances.push_back(chords[index].centre().norm());
+  for (int index : line.clean_chords) distances.push_back(chords[index].centre().norm());
   if (static_cast<int>(distances.size()) < 2 * options.min_points) return std::nullopt;
   const double median = quantile(distances, 0.5);
   std::vector<Eigen::Vector2d> centres;
   for (const Chord& chord : chords) centres.push_back(chord.centre());
   std::vector<bool> near(chords.size(), false);
-  for (int index : line.chords) near[index] = chords[index].centre().norm() <= median;
+  for (int index : line.clean_chords) near[index] = chords[index].centre().norm() <= median;
   CurveFitOptions fit_options = options.fit;
   fit_options.forward = line.model.tangent();
   const CurveFit fit = fit_curve_robust(centres, fit_options, &near);
@@ -42,6 +43,12 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
   if (fit.s_max_m - fit.s_min_m < std::max(options.min_visible_length_m, 0.05)) return std::nullopt;
   const double difference = std::abs(fit.model.curvature_1_m - line.model.curvature_1_m);
   if (difference <= sigmas * fit.curvature_sigma_1_m + 0.05) return std::nullopt;
+  std::vector<double> misfit;
+  const CurveModel::Prepared whole = line.model.prepared();
+  for (size_t i = 0; i < chords.size(); ++i) {
+    if (fit.inliers[i]) misfit.push_back(std::abs(whole.signed_distance(centres[i])));
+  }
+  if (quantile(misfit, 0.5) <= std::max(0.001, 3.0 * fit.rms_m)) return std::nullopt;
   return fit.model.tangent().dot(line.model.tangent()) >= 0.0 ? fit.model : fit.model.reversed();
 }
 
@@ -57,8 +64,11 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
   // A chord much longer than the tape is wide runs along the tape (or through a junction):
   // its midpoint is not on a centre line.
   const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.15;
+  std::vector<Eigen::Vector2d> firsts, seconds;
   for (const Chord& chord : chords) {
     centres.push_back(chord.centre());
+    firsts.push_back(chord.a);
+    seconds.push_back(chord.b);
     available.push_back((chord.a - chord.b).norm() <= max_chord_m);
   }
   for (int attempt = 0;
@@ -69,10 +79,72 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
       if (lines.empty()) reject("too few edge points on the tape");
       break;
     }
-    const CurveFit fit = fit_curve_robust(centres, options.fit, &available);
+    // A first fit on the midpoints finds the candidate (and, without a configured width, the
+    // width); the fit on the edges then decides which chords cross one clean piece of tape.
+    CurveFit fit = fit_curve_robust(centres, options.fit, &available);
     if (!fit.ok || fit.inlier_count < options.min_points) {
       if (lines.empty()) reject("edge points do not lie on one line");
       break;
+    }
+    // The edges lie at half the tape's measured width (real tape differs from its nominal
+    // width by millimetres; the configured width is checked further down).
+    double half_width_m;
+    {
+      std::vector<double> widths;
+      for (size_t i = 0; i < chords.size(); ++i) {
+        if (fit.inliers[i]) widths.push_back(chord_width(chords[i], fit.model));
+      }
+      half_width_m = 0.5 * quantile(widths, 0.5);
+    }
+    std::vector<double> first_offsets(chords.size()), second_offsets(chords.size());
+    {
+      const CurveModel::Prepared centre_curve = fit.model.prepared();
+      for (size_t i = 0; i < chords.size(); ++i) {
+        first_offsets[i] = centre_curve.signed_distance(firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
+        second_offsets[i] = centre_curve.signed_distance(seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
+      }
+    }
+    const EdgeObservations edges{&firsts, &seconds, &first_offsets, &second_offsets};
+    CurveFitOptions edge_options = options.fit;
+    edge_options.forward = fit.model.tangent();
+    const CurveFit edge_fit = fit_curve_robust(centres, edge_options, &available, &edges);
+    if (edge_fit.ok && edge_fit.inlier_count >= options.min_points) {
+      // The edges decide which chords crossed one clean piece of this tape (both edges on it);
+      // the model comes from those chords' midpoints, where errors common to both edges (blur,
+      // compression, wear) cancel. Chords with one good edge are the tape's but not used.
+      // Clean: both edges within max(1 mm, 3 robust sigmas) of where the tape's edges should be.
+      const double clean_band_m = std::max(0.001, 3.0 * edge_fit.rms_m);
+      const CurveModel::Prepared edge_curve = edge_fit.model.prepared();
+      std::vector<bool> clean(centres.size(), false);
+      int clean_count = 0;
+      double clean_s_min = 1e9, clean_s_max = -1e9;
+      for (size_t i = 0; i < centres.size(); ++i) {
+        if (edge_fit.edge_inliers[i] != 3) continue;
+        const double ra = edge_curve.signed_distance(firsts[i]) - first_offsets[i];
+        const double rb = edge_curve.signed_distance(seconds[i]) - second_offsets[i];
+        if (std::abs(ra) > clean_band_m || std::abs(rb) > clean_band_m) continue;
+        clean[i] = true;
+        ++clean_count;
+        const double s = edge_fit.model.arc_position(centres[i]);
+        clean_s_min = std::min(clean_s_min, s);
+        clean_s_max = std::max(clean_s_max, s);
+      }
+      CurveFitOptions centre_options = options.fit;
+      centre_options.forward = edge_fit.model.tangent();
+      // Midpoints only where clean chords cover most of the evidence; otherwise (a fork merging
+      // over much of the view) the edges, one of which runs on unbroken, carry the model.
+      const bool clean_covers = clean_s_max - clean_s_min >= 0.7 * (edge_fit.s_max_m - edge_fit.s_min_m);
+      const CurveFit centre_fit = clean_count >= options.min_points && clean_covers
+                                      ? fit_curve_robust(centres, centre_options, &clean)
+                                      : CurveFit{};
+      if (centre_fit.ok && centre_fit.inlier_count >= options.min_points) {
+        fit = centre_fit;
+        for (size_t i = 0; i < centres.size(); ++i) {
+          if (edge_fit.inliers[i]) available[i] = false;  // one-edge chords belong to it too
+        }
+      } else {
+        fit = edge_fit;
+      }
     }
     for (size_t i = 0; i < centres.size(); ++i) {
       if (fit.inliers[i]) available[i] = false;  // used, accepted or not
@@ -87,7 +159,9 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     for (size_t i = 0; i < chords.size(); ++i) {
       if (!fit.inliers[i]) continue;
       line.chords.push_back(static_cast<int>(i));
-      widths.push_back(chord_width(chords[i], fit.model));
+      if (fit.edge_inliers.empty() || fit.edge_inliers[i] == 3) line.clean_chords.push_back(static_cast<int>(i));
+      // The width from chords with both edges on this tape (not one edge at a fork).
+      if (fit.edge_inliers.empty() || fit.edge_inliers[i] == 3) widths.push_back(chord_width(chords[i], fit.model));
     }
     line.width_m = quantile(widths, 0.5);
     line.width_spread_m = quantile(widths, 0.9) - quantile(widths, 0.1);
@@ -103,7 +177,8 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     if (span_m < options.min_visible_length_m) {
       reject("visible tape too short");
       continue;
-    }  // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
+    }
+    // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
     // texture blobs has it only here and there.
     line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
     if (line.coverage < options.min_coverage) {
@@ -118,7 +193,10 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     if (options.expected_width_m > 0.0) {
       width_error = std::abs(line.width_m - options.expected_width_m) / options.expected_width_m;
       if (width_error > options.width_tolerance) {
-        reject("tape width does not match the configured width");
+        char why[128];
+        std::snprintf(why, sizeof(why), "tape width %.1f mm does not match the configured %.1f mm", 1e3 * line.width_m,
+                      1e3 * options.expected_width_m);
+        reject(why);
         continue;
       }
     }

@@ -26,7 +26,8 @@ struct DetectedLine {
   int points_used = 0;
   double coverage = 0.0;  // evidence per scan line over the span (1: every line crossed)
   double confidence = 0.0;
-  std::vector<int> chords;  // indices of the chords that support it
+  std::vector<int> chords;        // indices of the chords that support it
+  std::vector<int> clean_chords;  // of those, the ones with both edges on this tape
   bool open_start = false;  // the evidence runs into the image border at s_min / s_max:
   bool open_end = false;    // the tape goes on beyond what is seen
 };
@@ -49,8 +50,9 @@ struct LineSetOptions {
 // A path's curvature may change within view (a straight running into an arc, an arc into a
 // straight); the model that holds at the vehicle is then the one of the evidence nearest to it.
 // Fits the nearer half of a line's chords (by distance from the vehicle origin) and returns that
-// model, oriented as the line's, when its curvature differs from the whole line's by more than
-// `sigmas` of its own uncertainty; nullopt when the whole-line model stands.
+// model, oriented as the line's, when the whole line's model misfits that nearer evidence (by
+// more than 1 mm and three times the near fit's own residuals) and their curvatures differ by
+// more than `sigmas` of the near fit's uncertainty; nullopt when the whole-line model stands.
 std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chords,
                                                   const DetectedLine& line,
                                                   const LineSetOptions& options,
