@@ -44,9 +44,9 @@ double residual(const CurveModel::Prepared& curve, const Observation& o) {
 
 struct Scored {
   std::vector<bool> observation_inliers;
-  int count = 0;          // inlier observations
-  double rms = 0.0;       // robust scale (1.4826 x median |r|): for confidence
-  double plain_rms = 0.0; // root mean square: for uncertainties, which the tails belong to
+  int count = 0;           // inlier observations
+  double rms = 0.0;        // robust scale (1.4826 x median |r|): for confidence
+  double plain_rms = 0.0;  // root mean square: for uncertainties, which the tails belong to
 };
 
 Scored score(const CurveModel& m, const std::vector<Observation>& obs, double threshold) {
@@ -69,7 +69,8 @@ Scored score(const CurveModel& m, const std::vector<Observation>& obs, double th
     if (s.observation_inliers[i]) magnitudes.push_back(std::abs(residual(curve, obs[i])));
   }
   if (!magnitudes.empty()) {
-    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
+                     magnitudes.end());
     s.rms = 1.4826 * magnitudes[magnitudes.size() / 2];
   }
   return s;
@@ -79,8 +80,8 @@ Scored score(const CurveModel& m, const std::vector<Observation>& obs, double th
 // curvature held, with Cauchy weights of scale `scale`. A step is taken only if it lowers the
 // weighted cost; otherwise the damping grows. Returns the normal matrix at the solution (for the
 // covariance).
-Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs, const std::vector<bool>& use,
-                       bool free_curvature, double scale) {
+Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs,
+                       const std::vector<bool>& use, bool free_curvature, double scale) {
   auto cost_of = [&](const CurveModel& model) {
     const CurveModel::Prepared curve = model.prepared();
     double cost = 0.0;
@@ -150,7 +151,8 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs, const
 // 1 + 2 * sum of the residuals' autocorrelation over neighbours along the curve (the integrated
 // autocorrelation time), summed until it falls below 0.05. Each side of the tape (sign of the
 // distance) is one sequence.
-double correlation_inflation(const CurveModel& m, const std::vector<Observation>& obs, const std::vector<bool>& use) {
+double correlation_inflation(const CurveModel& m, const std::vector<Observation>& obs,
+                             const std::vector<bool>& use) {
   const CurveModel::Prepared curve = m.prepared();
   double total_tau = 0.0;
   int sequences = 0;
@@ -173,7 +175,8 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
     if (variance > 0.0) {
       for (size_t lag = 1; lag < n / 4; ++lag) {
         double sum = 0.0;
-        for (size_t i = 0; i + lag < n; ++i) sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
+        for (size_t i = 0; i + lag < n; ++i)
+          sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
         const double rho = sum / variance;
         if (rho < 0.05) break;
         tau += 2.0 * rho;
@@ -248,8 +251,9 @@ std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::V
   return oriented(m, b, forward);
 }
 
-CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
-                          const std::vector<bool>* mask, const EdgeObservations* edges) {
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
+                          const CurveFitOptions& options, const std::vector<bool>* mask,
+                          const EdgeObservations* edges) {
   CurveFit fit;
   std::vector<int> usable;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -261,8 +265,11 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const Curv
   std::vector<Observation> obs;
   for (int i : usable) {
     if (edges) {
-      obs.push_back({(*edges->first)[i], (*edges->first_offset_m)[i], i, true});
-      obs.push_back({(*edges->second)[i], (*edges->second_offset_m)[i], i, false});
+      // An edge whose offset is NaN is left out.
+      if (!std::isnan((*edges->first_offset_m)[i]))
+        obs.push_back({(*edges->first)[i], (*edges->first_offset_m)[i], i, true});
+      if (!std::isnan((*edges->second_offset_m)[i]))
+        obs.push_back({(*edges->second)[i], (*edges->second_offset_m)[i], i, false});
     } else {
       obs.push_back({points[i], 0.0, i, false});
     }
@@ -279,7 +286,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const Curv
   int needed = options.ransac_iterations;
   const int sampled = (m_obs + stride - 1) / stride;
   for (int it = 0; it < std::min(needed, options.ransac_iterations); ++it) {
-    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)], c = usable[rng.uniform(0, n)];
+    const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)],
+              c = usable[rng.uniform(0, n)];
     std::optional<CurveModel> model;
     if (it % 3 == 0) {  // a third of the hypotheses are lines (two points)
       if ((points[c] - points[a]).norm() < 1e-4) continue;
@@ -326,7 +334,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const Curv
                           correlation_inflation(model, obs, scored.observation_inliers);
   const Eigen::Matrix3d covariance = normal.inverse() * variance;
   fit.curvature_sigma_1_m = std::sqrt(std::max(0.0, covariance(2, 2)));
-  fit.is_line = std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
+  fit.is_line =
+      std::abs(model.curvature_1_m) < options.curvature_significance * fit.curvature_sigma_1_m;
   if (fit.is_line) {
     model.curvature_1_m = 0.0;
     for (int round = 0; round < 3; ++round) {

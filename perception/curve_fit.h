@@ -1,9 +1,9 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <cstdint>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -57,11 +57,11 @@ struct CurveModel {
 struct CurveFit {
   bool ok = false;
   CurveModel model;
-  std::vector<bool> inliers;            // per point: it (or one of its edges) fits
+  std::vector<bool> inliers;               // per point: it (or one of its edges) fits
   std::vector<std::uint8_t> edge_inliers;  // with edges: bit 0 first edge fits, bit 1 second
   int inlier_count = 0;
-  double rms_m = 0.0;              // robust residual scale of the inliers (1.4826 x median |r|)
-  double curvature_sigma_1_m = 0.0;     // standard deviation of the curvature from the fit
+  double rms_m = 0.0;                // robust residual scale of the inliers (1.4826 x median |r|)
+  double curvature_sigma_1_m = 0.0;  // standard deviation of the curvature from the fit
   double s_min_m = 0.0, s_max_m = 0.0;  // extent of the inliers along the curve
   bool is_line = true;                  // curvature not significant: fitted as a straight line
 };
@@ -79,7 +79,8 @@ struct CurveFitOptions {
 // The two edges of chords across a tape, for fits on edges: point i of `first` lies at signed
 // distance first_offset_m[i] from the centre curve (+ half the width on its left, - on its
 // right), and likewise for `second`. The sides come from a first fit on the midpoints; fixing
-// them keeps an edge from being explained by a curve on its wrong side.
+// them keeps an edge from being explained by a curve on its wrong side. A NaN offset leaves
+// that edge out.
 struct EdgeObservations {
   const std::vector<Eigen::Vector2d>* first;
   const std::vector<Eigen::Vector2d>* second;
@@ -93,8 +94,9 @@ struct EdgeObservations {
 // from the points (chord midpoints) but are scored and refined on the edges, each at half the
 // width from the curve: where a chord crosses a fork or a worn edge, its one good edge still
 // counts and the other is an outlier. `mask` (optional) marks the points that may be used.
-CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points, const CurveFitOptions& options,
-                          const std::vector<bool>* mask = nullptr, const EdgeObservations* edges = nullptr);
+CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
+                          const CurveFitOptions& options, const std::vector<bool>* mask = nullptr,
+                          const EdgeObservations* edges = nullptr);
 
 // The curve through three points (a line when they are collinear), oriented along `forward`.
 std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,

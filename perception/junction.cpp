@@ -151,9 +151,10 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
       double best_score = -std::numeric_limits<double>::infinity();
       for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
         const double h = heading_at(lines[i].model, lines[i].s_min_m);
-        const double score = choice == BranchChoice::kLeft    ? h
-                             : choice == BranchChoice::kRight ? -h
-                                                              : -std::abs(h) - std::abs(lines[i].model.e_d_m) / 0.05;
+        const double score = choice == BranchChoice::kLeft ? h
+                             : choice == BranchChoice::kRight
+                                 ? -h
+                                 : -std::abs(h) - std::abs(lines[i].model.e_d_m) / 0.05;
         if (score > best_score) {
           best_score = score;
           followed.line = i;

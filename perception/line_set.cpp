@@ -1,8 +1,8 @@
 #include "perception/line_set.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace agv::perception {
@@ -52,6 +52,111 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
   return fit.model.tangent().dot(line.model.tangent()) >= 0.0 ? fit.model : fit.model.reversed();
 }
 
+namespace {
+
+// The chords as the fits see them.
+struct ChordSet {
+  std::vector<Eigen::Vector2d> centres, firsts, seconds;
+};
+
+// A line's model from the chords marked in `available`: a first fit on the midpoints finds the
+// candidate and the tape's width; a fit on the edges (each on its side of the curve, at half
+// the width) decides which chords crossed one clean piece of tape (both edges on it); the model
+// then comes from the clean chords' midpoints, where errors common to both edges (blur,
+// compression, wear) cancel, unless clean chords cover too little of the evidence (a fork
+// merging over much of the view), when the edges carry it. `alternative` (fork hypothesis)
+// receives, where many chords had only one good edge, the model fitted on the clean chords and
+// the other edge of each of those.
+struct Candidate {
+  CurveFit fit;
+  std::vector<std::uint8_t> edge_inliers;  // of the edge fit, per chord
+};
+
+std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chord>& chords,
+                                       const std::vector<bool>& available,
+                                       const LineSetOptions& options,
+                                       std::optional<Candidate>* alternative) {
+  const CurveFit first = fit_curve_robust(c.centres, options.fit, &available);
+  if (!first.ok || first.inlier_count < options.min_points) return std::nullopt;
+  std::vector<double> widths;
+  for (size_t i = 0; i < chords.size(); ++i) {
+    if (first.inliers[i]) widths.push_back(chord_width(chords[i], first.model));
+  }
+  // The edges lie at half the tape's measured width (real tape differs from its nominal width
+  // by millimetres; the configured width is checked afterwards).
+  const double half_width_m = 0.5 * quantile(widths, 0.5);
+  std::vector<double> first_offsets(chords.size()), second_offsets(chords.size());
+  const CurveModel::Prepared first_curve = first.model.prepared();
+  for (size_t i = 0; i < chords.size(); ++i) {
+    first_offsets[i] =
+        first_curve.signed_distance(c.firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
+    second_offsets[i] =
+        first_curve.signed_distance(c.seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
+  }
+  CurveFitOptions edge_options = options.fit;
+  edge_options.forward = first.model.tangent();
+  const EdgeObservations edges{&c.firsts, &c.seconds, &first_offsets, &second_offsets};
+  const CurveFit edge_fit = fit_curve_robust(c.centres, edge_options, &available, &edges);
+  if (!edge_fit.ok || edge_fit.inlier_count < options.min_points) return Candidate{first, {}};
+
+  // Clean: both edges within max(1 mm, 3 robust sigmas) of where the tape's edges should be.
+  const double clean_band_m = std::max(0.001, 3.0 * edge_fit.rms_m);
+  const CurveModel::Prepared edge_curve = edge_fit.model.prepared();
+  std::vector<bool> clean(chords.size(), false);
+  int clean_count = 0, one_edge_count = 0;
+  double clean_s_min = 1e9, clean_s_max = -1e9;
+  for (size_t i = 0; i < chords.size(); ++i) {
+    if (edge_fit.edge_inliers[i] == 1 || edge_fit.edge_inliers[i] == 2) ++one_edge_count;
+    if (edge_fit.edge_inliers[i] != 3) continue;
+    if (std::abs(edge_curve.signed_distance(c.firsts[i]) - first_offsets[i]) > clean_band_m ||
+        std::abs(edge_curve.signed_distance(c.seconds[i]) - second_offsets[i]) > clean_band_m) {
+      continue;
+    }
+    clean[i] = true;
+    ++clean_count;
+    const double s = edge_fit.model.arc_position(c.centres[i]);
+    clean_s_min = std::min(clean_s_min, s);
+    clean_s_max = std::max(clean_s_max, s);
+  }
+  Candidate candidate{edge_fit, edge_fit.edge_inliers};
+  CurveFitOptions centre_options = options.fit;
+  centre_options.forward = edge_fit.model.tangent();
+  const bool clean_covers =
+      clean_s_max - clean_s_min >= 0.7 * (edge_fit.s_max_m - edge_fit.s_min_m);
+  if (clean_count >= options.min_points && clean_covers) {
+    CurveFit centre_fit = fit_curve_robust(c.centres, centre_options, &clean);
+    if (centre_fit.ok && centre_fit.inlier_count >= options.min_points) {
+      // One-edge chords belong to this tape too, though they do not shape the model.
+      for (size_t i = 0; i < chords.size(); ++i) {
+        if (edge_fit.inliers[i]) centre_fit.inliers[i] = true;
+      }
+      candidate.fit = centre_fit;
+    }
+  }
+  if (alternative && one_edge_count >= std::max(options.min_points, edge_fit.inlier_count / 5)) {
+    // Fork hypothesis: the clean chords and, of each one-edge chord, the edge that did not fit.
+    std::vector<double> alt_first(chords.size(), std::nan("")),
+        alt_second(chords.size(), std::nan(""));
+    std::vector<bool> alt_mask(chords.size(), false);
+    for (size_t i = 0; i < chords.size(); ++i) {
+      const std::uint8_t e = edge_fit.edge_inliers[i];
+      if (e == 0 || !available[i]) continue;
+      alt_mask[i] = true;
+      if (e == 3 || e == 2) alt_first[i] = e == 3 ? first_offsets[i] : first_offsets[i];
+      if (e == 3 || e == 1) alt_second[i] = second_offsets[i];
+      if (e == 1) alt_first[i] = std::nan("");
+      if (e == 2) alt_second[i] = std::nan("");
+    }
+    const EdgeObservations alt_edges{&c.firsts, &c.seconds, &alt_first, &alt_second};
+    const CurveFit alt = fit_curve_robust(c.centres, edge_options, &alt_mask, &alt_edges);
+    if (alt.ok && alt.inlier_count >= options.min_points)
+      *alternative = Candidate{alt, alt.edge_inliers};
+  }
+  return candidate;
+}
+
+}  // namespace
+
 std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
                                         const LineSetOptions& options,
                                         std::vector<std::string>* rejections) {
@@ -59,96 +164,21 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
   auto reject = [&](const std::string& why) {
     if (rejections) rejections->push_back(why);
   };
-  std::vector<Eigen::Vector2d> centres;
+  ChordSet c;
   std::vector<bool> available;
   // A chord much longer than the tape is wide runs along the tape (or through a junction):
   // its midpoint is not on a centre line.
   const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.15;
-  std::vector<Eigen::Vector2d> firsts, seconds;
   for (const Chord& chord : chords) {
-    centres.push_back(chord.centre());
-    firsts.push_back(chord.a);
-    seconds.push_back(chord.b);
+    c.centres.push_back(chord.centre());
+    c.firsts.push_back(chord.a);
+    c.seconds.push_back(chord.b);
     available.push_back((chord.a - chord.b).norm() <= max_chord_m);
   }
-  for (int attempt = 0;
-       attempt < 2 * options.max_lines && static_cast<int>(lines.size()) < options.max_lines;
-       ++attempt) {
-    const int remaining = static_cast<int>(std::count(available.begin(), available.end(), true));
-    if (remaining < options.min_points) {
-      if (lines.empty()) reject("too few edge points on the tape");
-      break;
-    }
-    // A first fit on the midpoints finds the candidate (and, without a configured width, the
-    // width); the fit on the edges then decides which chords cross one clean piece of tape.
-    CurveFit fit = fit_curve_robust(centres, options.fit, &available);
-    if (!fit.ok || fit.inlier_count < options.min_points) {
-      if (lines.empty()) reject("edge points do not lie on one line");
-      break;
-    }
-    // The edges lie at half the tape's measured width (real tape differs from its nominal
-    // width by millimetres; the configured width is checked further down).
-    double half_width_m;
-    {
-      std::vector<double> widths;
-      for (size_t i = 0; i < chords.size(); ++i) {
-        if (fit.inliers[i]) widths.push_back(chord_width(chords[i], fit.model));
-      }
-      half_width_m = 0.5 * quantile(widths, 0.5);
-    }
-    std::vector<double> first_offsets(chords.size()), second_offsets(chords.size());
-    {
-      const CurveModel::Prepared centre_curve = fit.model.prepared();
-      for (size_t i = 0; i < chords.size(); ++i) {
-        first_offsets[i] = centre_curve.signed_distance(firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
-        second_offsets[i] = centre_curve.signed_distance(seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
-      }
-    }
-    const EdgeObservations edges{&firsts, &seconds, &first_offsets, &second_offsets};
-    CurveFitOptions edge_options = options.fit;
-    edge_options.forward = fit.model.tangent();
-    const CurveFit edge_fit = fit_curve_robust(centres, edge_options, &available, &edges);
-    if (edge_fit.ok && edge_fit.inlier_count >= options.min_points) {
-      // The edges decide which chords crossed one clean piece of this tape (both edges on it);
-      // the model comes from those chords' midpoints, where errors common to both edges (blur,
-      // compression, wear) cancel. Chords with one good edge are the tape's but not used.
-      // Clean: both edges within max(1 mm, 3 robust sigmas) of where the tape's edges should be.
-      const double clean_band_m = std::max(0.001, 3.0 * edge_fit.rms_m);
-      const CurveModel::Prepared edge_curve = edge_fit.model.prepared();
-      std::vector<bool> clean(centres.size(), false);
-      int clean_count = 0;
-      double clean_s_min = 1e9, clean_s_max = -1e9;
-      for (size_t i = 0; i < centres.size(); ++i) {
-        if (edge_fit.edge_inliers[i] != 3) continue;
-        const double ra = edge_curve.signed_distance(firsts[i]) - first_offsets[i];
-        const double rb = edge_curve.signed_distance(seconds[i]) - second_offsets[i];
-        if (std::abs(ra) > clean_band_m || std::abs(rb) > clean_band_m) continue;
-        clean[i] = true;
-        ++clean_count;
-        const double s = edge_fit.model.arc_position(centres[i]);
-        clean_s_min = std::min(clean_s_min, s);
-        clean_s_max = std::max(clean_s_max, s);
-      }
-      CurveFitOptions centre_options = options.fit;
-      centre_options.forward = edge_fit.model.tangent();
-      // Midpoints only where clean chords cover most of the evidence; otherwise (a fork merging
-      // over much of the view) the edges, one of which runs on unbroken, carry the model.
-      const bool clean_covers = clean_s_max - clean_s_min >= 0.7 * (edge_fit.s_max_m - edge_fit.s_min_m);
-      const CurveFit centre_fit = clean_count >= options.min_points && clean_covers
-                                      ? fit_curve_robust(centres, centre_options, &clean)
-                                      : CurveFit{};
-      if (centre_fit.ok && centre_fit.inlier_count >= options.min_points) {
-        fit = centre_fit;
-        for (size_t i = 0; i < centres.size(); ++i) {
-          if (edge_fit.inliers[i]) available[i] = false;  // one-edge chords belong to it too
-        }
-      } else {
-        fit = edge_fit;
-      }
-    }
-    for (size_t i = 0; i < centres.size(); ++i) {
-      if (fit.inliers[i]) available[i] = false;  // used, accepted or not
-    }
+
+  // Checks a candidate's evidence and makes it a line, or says why not.
+  auto evaluate = [&](const Candidate& candidate) -> std::optional<DetectedLine> {
+    const CurveFit& fit = candidate.fit;
     DetectedLine line;
     line.model = fit.model;
     line.residual_rms_m = fit.rms_m;
@@ -159,9 +189,11 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     for (size_t i = 0; i < chords.size(); ++i) {
       if (!fit.inliers[i]) continue;
       line.chords.push_back(static_cast<int>(i));
-      if (fit.edge_inliers.empty() || fit.edge_inliers[i] == 3) line.clean_chords.push_back(static_cast<int>(i));
-      // The width from chords with both edges on this tape (not one edge at a fork).
-      if (fit.edge_inliers.empty() || fit.edge_inliers[i] == 3) widths.push_back(chord_width(chords[i], fit.model));
+      // Width and clean chords: both edges on this tape (not one edge at a fork).
+      if (candidate.edge_inliers.empty() || candidate.edge_inliers[i] == 3) {
+        line.clean_chords.push_back(static_cast<int>(i));
+        widths.push_back(chord_width(chords[i], fit.model));
+      }
     }
     line.width_m = quantile(widths, 0.5);
     line.width_spread_m = quantile(widths, 0.9) - quantile(widths, 0.1);
@@ -170,39 +202,39 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     // tape width of it but are not inliers speak against it.
     int near = 0;
     const CurveModel::Prepared curve = fit.model.prepared();
-    for (size_t i = 0; i < centres.size(); ++i) {
-      if (std::abs(curve.signed_distance(centres[i])) < std::max(line.width_m, 0.005)) ++near;
+    for (size_t i = 0; i < chords.size(); ++i) {
+      if (std::abs(curve.signed_distance(c.centres[i])) < std::max(line.width_m, 0.005)) ++near;
     }
     const double inlier_fraction = static_cast<double>(fit.inlier_count) / std::max(1, near);
     if (span_m < options.min_visible_length_m) {
       reject("visible tape too short");
-      continue;
+      return std::nullopt;
     }
     // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
     // texture blobs has it only here and there.
     line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
     if (line.coverage < options.min_coverage) {
       reject("evidence too sparse along the line");
-      continue;
+      return std::nullopt;
     }
     if (inlier_fraction < options.min_inlier_fraction) {
       reject("edge points do not lie on one line");
-      continue;
+      return std::nullopt;
     }
     double width_error = 0.0;
     if (options.expected_width_m > 0.0) {
       width_error = std::abs(line.width_m - options.expected_width_m) / options.expected_width_m;
       if (width_error > options.width_tolerance) {
         char why[128];
-        std::snprintf(why, sizeof(why), "tape width %.1f mm does not match the configured %.1f mm", 1e3 * line.width_m,
-                      1e3 * options.expected_width_m);
+        std::snprintf(why, sizeof(why), "tape width %.1f mm does not match the configured %.1f mm",
+                      1e3 * line.width_m, 1e3 * options.expected_width_m);
         reject(why);
-        continue;
+        return std::nullopt;
       }
     }
     if (line.width_spread_m > options.width_spread_tolerance * line.width_m + 0.0005) {
       reject("tape width varies along the line");
-      continue;
+      return std::nullopt;
     }
     // Confidence: every factor is 1 for a clean, fully visible tape of the right width.
     const double span_factor = std::min(1.0, span_m / options.full_span_m);
@@ -214,9 +246,43 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
                       residual_factor * coverage_factor;
     if (line.confidence < options.min_confidence) {
       reject("evidence too weak");
-      continue;
+      return std::nullopt;
     }
-    lines.push_back(std::move(line));
+    return line;
+  };
+
+  for (int attempt = 0;
+       attempt < 2 * options.max_lines && static_cast<int>(lines.size()) < options.max_lines;
+       ++attempt) {
+    const int remaining = static_cast<int>(std::count(available.begin(), available.end(), true));
+    if (remaining < options.min_points) {
+      if (lines.empty()) reject("too few edge points on the tape");
+      break;
+    }
+    std::optional<Candidate> alternative;
+    const std::optional<Candidate> candidate =
+        fit_candidate(c, chords, available, options, &alternative);
+    if (!candidate) {
+      if (lines.empty()) reject("edge points do not lie on one line");
+      break;
+    }
+    for (size_t i = 0; i < chords.size(); ++i) {
+      if (candidate->fit.inliers[i]) available[i] = false;  // used, accepted or not
+    }
+    if (auto line = evaluate(*candidate)) lines.push_back(std::move(*line));
+    // A fork seen where its two tapes still overlap: the other reading of the one-edge chords is
+    // a line of its own when it leaves in another direction.
+    if (alternative && static_cast<int>(lines.size()) < options.max_lines) {
+      const CurveModel& a = candidate->fit.model;
+      const CurveModel& b = alternative->fit.model;
+      const Eigen::Vector2d far_a = a.point_at(candidate->fit.s_max_m);
+      const double apart_m = std::abs(b.signed_distance(far_a));
+      // Apart by the end of the evidence: a fork (a wear pattern's alternative differs by a
+      // millimetre or two).
+      if (apart_m > std::max(0.003, 0.2 * options.expected_width_m)) {
+        if (auto line = evaluate(*alternative)) lines.push_back(std::move(*line));
+      }
+    }
   }
   return lines;
 }

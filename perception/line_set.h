@@ -28,8 +28,8 @@ struct DetectedLine {
   double confidence = 0.0;
   std::vector<int> chords;        // indices of the chords that support it
   std::vector<int> clean_chords;  // of those, the ones with both edges on this tape
-  bool open_start = false;  // the evidence runs into the image border at s_min / s_max:
-  bool open_end = false;    // the tape goes on beyond what is seen
+  bool open_start = false;        // the evidence runs into the image border at s_min / s_max:
+  bool open_end = false;          // the tape goes on beyond what is seen
 };
 
 struct LineSetOptions {
