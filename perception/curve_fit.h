@@ -42,6 +42,7 @@ struct CurveModel {
   struct Prepared {
     Eigen::Vector2d foot, tangent, normal;
     double curvature_1_m;
+    double e_d_m;
     double signed_distance(const Eigen::Vector2d& p) const {
       const Eigen::Vector2d q = p - foot;
       const double u = q.dot(normal);
@@ -50,8 +51,32 @@ struct CurveModel {
       const double root = std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2));
       return (2.0 * u - k * r2) / (1.0 + root);
     }
+    // The same, with its gradient with respect to (e_d, heading, curvature). With u = p.n + e_d,
+    // r^2 = |p|^2 + 2 e_d p.n + e_d^2, A = 2u - k r^2, S = sqrt(1 - 2ku + k^2 r^2), d = A / (1 +
+    // S):
+    //   du/de_d = 1, dr2/de_d = 2u;   du/dh = -p.t, dr2/dh = -2 e_d p.t;   dA/dk = -r^2,
+    //   dS/dk = (k r^2 - u) / S;  for e_d and h: dA = 2 du - k dr2, dS = (-2k du + k^2 dr2) / (2S);
+    //   dd = (dA (1 + S) - A dS) / (1 + S)^2.
+    double signed_distance(const Eigen::Vector2d& p, Eigen::Vector3d* gradient) const {
+      const double pn = p.dot(normal), pt = p.dot(tangent);
+      const double k = curvature_1_m;
+      const double u = pn + e_d_m;
+      const double r2 = p.squaredNorm() + 2.0 * e_d_m * pn + e_d_m * e_d_m;
+      const double a = 2.0 * u - k * r2;
+      const double s = std::sqrt(std::max(1e-12, 1.0 - 2.0 * k * u + k * k * r2));
+      const double b = 1.0 + s;
+      auto derivative = [&](double du, double dr2) {
+        const double da = 2.0 * du - k * dr2;
+        const double ds = (-2.0 * k * du + k * k * dr2) / (2.0 * s);
+        return (da * b - a * ds) / (b * b);
+      };
+      (*gradient)[0] = derivative(1.0, 2.0 * u);
+      (*gradient)[1] = derivative(-pt, -2.0 * e_d_m * pt);
+      (*gradient)[2] = (-r2 * b - a * (k * r2 - u) / s) / (b * b);
+      return a / b;
+    }
   };
-  Prepared prepared() const { return {foot_point(), tangent(), normal(), curvature_1_m}; }
+  Prepared prepared() const { return {foot_point(), tangent(), normal(), curvature_1_m, e_d_m}; }
 };
 
 struct CurveFit {

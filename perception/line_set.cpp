@@ -36,6 +36,15 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
   for (const Chord& chord : chords) centres.push_back(chord.centre());
   std::vector<bool> near(chords.size(), false);
   for (int index : line.clean_chords) near[index] = chords[index].centre().norm() <= median;
+  // Cheap test first: the whole model fits the near evidence to its own residual level.
+  {
+    std::vector<double> misfit;
+    const CurveModel::Prepared whole = line.model.prepared();
+    for (size_t i = 0; i < chords.size(); ++i) {
+      if (near[i]) misfit.push_back(std::abs(whole.signed_distance(centres[i])));
+    }
+    if (quantile(misfit, 0.5) <= std::max(0.001, 3.0 * line.residual_rms_m)) return std::nullopt;
+  }
   CurveFitOptions fit_options = options.fit;
   fit_options.forward = line.model.tangent();
   const CurveFit fit = fit_curve_robust(centres, fit_options, &near);
@@ -124,7 +133,12 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   const bool clean_covers =
       clean_s_max - clean_s_min >= 0.7 * (edge_fit.s_max_m - edge_fit.s_min_m);
   if (clean_count >= options.min_points && clean_covers) {
-    CurveFit centre_fit = fit_curve_robust(c.centres, centre_options, &clean);
+    // Usually (clean tape) the clean chords are exactly the first fit's inliers: that fit is the
+    // midpoint fit on them already.
+    bool same = true;
+    for (size_t i = 0; i < chords.size() && same; ++i)
+      same = clean[i] == (first.inliers[i] && available[i]);
+    CurveFit centre_fit = same ? first : fit_curve_robust(c.centres, centre_options, &clean);
     if (centre_fit.ok && centre_fit.inlier_count >= options.min_points) {
       // One-edge chords belong to this tape too, though they do not shape the model.
       for (size_t i = 0; i < chords.size(); ++i) {
