@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <vector>
 
 namespace agv::perception {
@@ -133,6 +134,125 @@ std::optional<ContrastAxis> estimate_contrast_axis(const cv::Mat& frame,
     axis.offset = static_cast<float>(-w.dot(floor));
   }
   return axis;
+}
+
+namespace {
+
+// Linear bar response of one float plane along rows (horizontal) or columns: mean over the
+// bar minus the mean of the two flanks of half its width.
+cv::Mat linear_bar(const cv::Mat& plane, int bar, bool horizontal) {
+  const int flank = std::max(1, bar / 2);
+  const int offset = (bar + flank + 1) / 2;
+  cv::Mat centre, flanks;
+  cv::blur(plane, centre, horizontal ? cv::Size(bar, 1) : cv::Size(1, bar), cv::Point(-1, -1),
+           cv::BORDER_REPLICATE);
+  cv::blur(plane, flanks, horizontal ? cv::Size(flank, 1) : cv::Size(1, flank), cv::Point(-1, -1),
+           cv::BORDER_REPLICATE);
+  cv::Mat out(plane.size(), CV_32F);
+  for (int y = 0; y < plane.rows; ++y) {
+    float* o = out.ptr<float>(y);
+    const float* c = centre.ptr<float>(y);
+    for (int x = 0; x < plane.cols; ++x) {
+      float before, after;
+      if (horizontal) {
+        before = flanks.at<float>(y, std::max(0, x - offset));
+        after = flanks.at<float>(y, std::min(plane.cols - 1, x + offset));
+      } else {
+        before = flanks.at<float>(std::max(0, y - offset), x);
+        after = flanks.at<float>(std::min(plane.rows - 1, y + offset), x);
+      }
+      o[x] = c[x] - 0.5f * (before + after);
+    }
+  }
+  return out;
+}
+
+// Value at quantile q of `values` (which it reorders).
+float quantile(std::vector<float>& values, double q) {
+  const size_t i = std::min(values.size() - 1, static_cast<size_t>(q * values.size()));
+  std::nth_element(values.begin(), values.begin() + i, values.end());
+  return values[i];
+}
+
+}  // namespace
+
+std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
+                                                 const std::optional<cv::Vec3d>& tape_hint_bgr,
+                                                 double bar_width_px) {
+  if (frame.empty()) return std::nullopt;
+  const int channels = frame.channels();
+  const cv::Vec3d floor = median_colour(frame);
+  std::vector<cv::Mat> planes;
+  cv::Mat as_float;
+  frame.convertTo(as_float, CV_32F);
+  cv::split(as_float, planes);
+  const int bar = std::max(2, static_cast<int>(std::lround(bar_width_px)));
+  // Linear bar responses per channel, along rows and columns; a candidate's response is their
+  // combination with its weights. Every second sample is enough to score.
+  std::vector<cv::Mat> rows(channels), cols(channels);
+  for (int c = 0; c < channels; ++c) {
+    rows[c] = linear_bar(planes[c], bar, true);
+    cols[c] = linear_bar(planes[c], bar, false);
+  }
+  std::vector<cv::Vec3d> candidates;
+  if (tape_hint_bgr) candidates.push_back(*tape_hint_bgr - floor);
+  if (const auto outlier = dominant_outlier_offset(frame, floor)) candidates.push_back(*outlier);
+  candidates.push_back({-1, -1, -1});
+  candidates.push_back({1, 1, 1});
+  if (channels == 3) {
+    const cv::Vec3d u1 = cv::Vec3d(1, -1, 0) / std::sqrt(2.0),
+                    u2 = cv::Vec3d(1, 1, -2) / std::sqrt(6.0);
+    for (int k = 0; k < 6; ++k)
+      candidates.push_back(std::cos(k * CV_PI / 3) * u1 + std::sin(k * CV_PI / 3) * u2);
+  }
+  double best_score = 0.0;
+  std::optional<ContrastAxis> best;
+  std::vector<float> response;
+  for (size_t k = 0; k < candidates.size(); ++k) {
+    cv::Vec3d d = candidates[k];
+    if (channels == 1) d = cv::Vec3d::all((d[0] + d[1] + d[2]) / 3.0);
+    const double norm = cv::norm(d);
+    if (norm < 1e-9) continue;
+    d /= norm;
+    response.clear();
+    for (int y = 0; y < frame.rows; y += 2) {
+      for (int x = 0; x < frame.cols; x += 2) {
+        float r = 0.0f, s = 0.0f;
+        for (int c = 0; c < channels; ++c) {
+          const float w = static_cast<float>(channels == 1 ? 1.0 : d[c]);
+          r += w * rows[c].at<float>(y, x);
+          s += w * cols[c].at<float>(y, x);
+        }
+        response.push_back(std::max(r, s));
+      }
+    }
+    const float peak = quantile(response, 0.995);
+    const float middle = quantile(response, 0.5);
+    for (float& v : response) v = std::abs(v - middle);
+    const float spread = 1.4826f * quantile(response, 0.5);
+    // Contrast over noise, the noise at least the sensor's few grey levels (a colour axis along
+    // which nothing varies is not for that a good one); the tape must stand out by 20 levels.
+    // The hint is what the user knows: it wins ties.
+    constexpr float kSensorNoise = 5.0f, kMinContrast = 20.0f;
+    const double score =
+        (peak - middle) / std::hypot(spread, kSensorNoise) * (tape_hint_bgr && k == 0 ? 1.2 : 1.0);
+    if (score > best_score && peak - middle >= kMinContrast) {
+      best_score = score;
+      ContrastAxis axis;
+      const double level = peak - middle;  // the tape's contrast along d, about
+      if (channels == 1) {
+        axis.weights = cv::Vec3f(static_cast<float>(d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
+        axis.offset = static_cast<float>(-floor[0] * d[0] * std::sqrt(3.0) / level);
+      } else {
+        const cv::Vec3d w = d / level;
+        axis.weights = cv::Vec3f(w);
+        axis.offset = static_cast<float>(-w.dot(floor));
+      }
+      axis.from_hint = tape_hint_bgr && k == 0;
+      best = axis;
+    }
+  }
+  return best;
 }
 
 }  // namespace agv::perception

@@ -146,12 +146,26 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       // Walk outwards from the peak to the half-way crossings, each against its own floor level.
       const float threshold_first = 0.5f * (floor_first + tape_level);
       const float threshold_second = 0.5f * (floor_second + tape_level);
-      const int i = walk_to_edge(profile, peak, -1, threshold_first, options.max_dip_px);
-      if (i < side) continue;  // the crossing must lie beyond the floor samples
-      const float first_pos = i + (threshold_first - profile[i]) / (profile[i + 1] - profile[i]);
-      const int j = walk_to_edge(profile, peak, +1, threshold_second, options.max_dip_px);
-      if (j > count - 1 - side) continue;
-      const float second_pos = j - (threshold_second - profile[j]) / (profile[j - 1] - profile[j]);
+      int i = walk_to_edge(profile, peak, -1, threshold_first, options.max_dip_px);
+      int j = walk_to_edge(profile, peak, +1, threshold_second, options.max_dip_px);
+      if (i < side || j > count - 1 - side)
+        continue;  // the crossings must lie beyond the floor samples
+      // Second pass with the tape's level next to each edge: a shadow edge or a light gradient
+      // across the tape makes it differ from one side of the tape to the other.
+      const int inside = std::max(2, (j - i) / 4);
+      auto mean_of = [&](int from, int to) {
+        float sum = 0.0f;
+        int n = 0;
+        for (int k = std::max(0, from); k <= std::min(count - 1, to); ++k, ++n) sum += profile[k];
+        return n ? sum / n : tape_level;
+      };
+      const float local_first = 0.5f * (floor_first + mean_of(i + 2, i + 1 + inside));
+      const float local_second = 0.5f * (floor_second + mean_of(j - 1 - inside, j - 2));
+      i = walk_to_edge(profile, peak, -1, local_first, options.max_dip_px);
+      j = walk_to_edge(profile, peak, +1, local_second, options.max_dip_px);
+      if (i < side || j > count - 1 - side) continue;
+      const float first_pos = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
+      const float second_pos = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
 
       EdgePair pair;
       pair.contrast = contrast;

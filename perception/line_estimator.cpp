@@ -61,7 +61,9 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   for (int factor = 1; factor < ds; factor *= 2) {
     cv::resize(small, small, cv::Size(small.cols / 2, small.rows / 2), 0, 0, cv::INTER_AREA);
   }
-  const std::optional<ContrastAxis> axis = estimate_contrast_axis(small, options_.tape.color_bgr);
+  const std::optional<ContrastAxis> axis = choose_contrast_axis(
+      small, options_.tape.color_bgr,
+      *std::max_element(bar_widths_small_px_.begin(), bar_widths_small_px_.end()));
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
   const TapeRegions coarse =
       find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);

@@ -132,9 +132,22 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   centre_options.forward = edge_fit.model.tangent();
   const bool clean_covers =
       clean_s_max - clean_s_min >= 0.7 * (edge_fit.s_max_m - edge_fit.s_min_m);
-  if (clean_count >= options.min_points && clean_covers) {
-    // Usually (clean tape) the clean chords are exactly the first fit's inliers: that fit is the
-    // midpoint fit on them already.
+  const bool few_one_edge = one_edge_count * 10 < edge_fit.inlier_count;  // no fork, no merging
+  if (clean_count >= options.min_points && clean_covers && !edge_fit.is_line && few_one_edge) {
+    // An arc: its edges lie exactly on concentric circles at half the width, but a chord's
+    // midpoint is not on the centre circle where the scan line crosses the tape obliquely (it
+    // falls inside by up to a millimetre for tight arcs). Fit the clean chords' edges.
+    CurveFit arc_fit = fit_curve_robust(c.centres, centre_options, &clean, &edges);
+    if (arc_fit.ok && arc_fit.inlier_count >= options.min_points) {
+      for (size_t i = 0; i < chords.size(); ++i) {
+        if (edge_fit.inliers[i]) arc_fit.inliers[i] = true;
+      }
+      candidate.fit = arc_fit;
+    }
+  } else if (clean_count >= options.min_points && clean_covers) {
+    // A straight tape: midpoints lie exactly on its centre line, and errors common to both edges
+    // cancel in them. Usually (clean tape) the clean chords are exactly the first fit's inliers:
+    // that fit is the midpoint fit on them already.
     bool same = true;
     for (size_t i = 0; i < chords.size() && same; ++i)
       same = clean[i] == (first.inliers[i] && available[i]);

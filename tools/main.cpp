@@ -6,6 +6,7 @@
 
 #include "common/input_error.h"
 #include "tools/bench_command.h"
+#include "tools/evaluate_command.h"
 #include "tools/record_command.h"
 #include "tools/replay_command.h"
 #include "tools/simulate_command.h"
@@ -20,6 +21,8 @@ int main(int argc, char** argv) {
   agv::tools::BenchArgs bench;
   agv::tools::add_simulate_command(app, simulate);
   agv::tools::add_bench_command(app, bench);
+  agv::tools::EvaluateArgs evaluate;
+  agv::tools::add_evaluate_command(app, evaluate);
   agv::tools::RecordArgs record;
   agv::tools::ReplayArgs replay;
   agv::tools::add_record_command(app, record);
@@ -35,6 +38,7 @@ int main(int argc, char** argv) {
     if (command == "simulate") return agv::tools::run_simulate(simulate);
     if (command == "bench") return agv::tools::run_bench(bench);
     if (command == "record") return agv::tools::run_record(record);
+    if (command == "evaluate") return agv::tools::run_evaluate(evaluate);
     if (command == "replay") return agv::tools::run_replay_command(replay);
   } catch (const agv::InputError& e) {
     std::cerr << "agv " << command << ": error: " << e.what() << '\n';
