@@ -76,66 +76,69 @@ Scored score(const CurveModel& m, const std::vector<Observation>& obs, double th
   return s;
 }
 
+// Cauchy cost of a model and its Gauss-Newton normal equations (weights 1 / (1 + (r/scale)^2)),
+// in one pass over the observations marked in `use`.
+struct Linearised {
+  double cost = 0.0;
+  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
+};
+
+Linearised linearise(const CurveModel& model, const std::vector<Observation>& obs,
+                     const std::vector<bool>& use, bool free_curvature, double scale) {
+  Linearised l;
+  const CurveModel::Prepared curve = model.prepared();
+  const double inverse_scale2 = 1.0 / (scale * scale);
+  for (size_t i = 0; i < obs.size(); ++i) {
+    if (!use[i]) continue;
+    Eigen::Vector3d j;
+    const double r = curve.signed_distance(obs[i].p, &j) - obs[i].offset;
+    if (!free_curvature) j[2] = 0.0;
+    const double z = r * r * inverse_scale2;
+    l.cost += std::log1p(z);  // the Cauchy loss whose weights are used
+    const double w = 1.0 / (1.0 + z);
+    l.jtj += w * j * j.transpose();
+    l.jtr += w * j * r;
+  }
+  if (!free_curvature) l.jtj(2, 2) = 1.0;
+  return l;
+}
+
 // Weighted Levenberg-Marquardt on (e_d, heading, curvature), or (e_d, heading) with the
 // curvature held, with Cauchy weights of scale `scale`. A step is taken only if it lowers the
 // weighted cost; otherwise the damping grows. Returns the normal matrix at the solution (for the
 // covariance).
 Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs,
                        const std::vector<bool>& use, bool free_curvature, double scale) {
-  auto cost_of = [&](const CurveModel& model) {
-    const CurveModel::Prepared curve = model.prepared();
-    double cost = 0.0;
-    for (size_t i = 0; i < obs.size(); ++i) {
-      if (!use[i]) continue;
-      const double r = residual(curve, obs[i]) / scale;
-      cost += std::log1p(r * r);  // the Cauchy loss whose weights are used below
-    }
-    return cost;
-  };
-  Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
+  Linearised current = linearise(*m, obs, use, free_curvature, scale);
   double lambda = 1e-3;
-  double cost = cost_of(*m);
   for (int iteration = 0; iteration < 12; ++iteration) {
-    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
-    const CurveModel::Prepared base = m->prepared();
-    for (size_t i = 0; i < obs.size(); ++i) {
-      if (!use[i]) continue;
-      Eigen::Vector3d j;
-      const double r = base.signed_distance(obs[i].p, &j) - obs[i].offset;
-      if (!free_curvature) j[2] = 0.0;
-      const double w = 1.0 / (1.0 + (r / scale) * (r / scale));  // Cauchy weight
-      jtj += w * j * j.transpose();
-      jtr += w * j * r;
-    }
-    if (!free_curvature) jtj(2, 2) = 1.0;
-    normal = jtj;
     bool improved = false;
     for (int attempt = 0; attempt < 8 && !improved; ++attempt) {
-      Eigen::Matrix3d damped = jtj;
-      damped.diagonal() += lambda * jtj.diagonal().cwiseMax(1e-12);
-      const Eigen::Vector3d step = damped.ldlt().solve(-jtr);
-      if (!step.allFinite()) break;
+      Eigen::Matrix3d damped = current.jtj;
+      damped.diagonal() += lambda * current.jtj.diagonal().cwiseMax(1e-12);
+      const Eigen::Vector3d step = damped.ldlt().solve(-current.jtr);
+      if (!step.allFinite()) return current.jtj;
       CurveModel trial = *m;
       trial.e_d_m += step[0];
       trial.heading_rad = wrap_angle_rad(trial.heading_rad + step[1]);
       if (free_curvature) trial.curvature_1_m += step[2];
-      const double trial_cost = cost_of(trial);
-      if (trial_cost <= cost) {
-        // Converged: steps of 0.1 micrometre, 0.1 microradian, 1e-5 1/m mean nothing here.
-        const bool converged = step.head<2>().norm() < 1e-7 && std::abs(step[2]) < 1e-5;
+      Linearised at_trial = linearise(trial, obs, use, free_curvature, scale);
+      if (at_trial.cost <= current.cost) {
         *m = trial;
-        cost = trial_cost;
+        current = at_trial;
         lambda = std::max(1e-7, lambda * 0.1);
         improved = true;
-        if (converged) return normal;
+        // Converged: steps of 1 micrometre, 1 microradian, 1e-4 1/m mean nothing here (the
+        // noise of a fit is tens of micrometres).
+        if (step.head<2>().norm() < 1e-6 && std::abs(step[2]) < 1e-4) return current.jtj;
       } else {
         lambda *= 10.0;
       }
     }
     if (!improved) break;
   }
-  return normal;
+  return current.jtj;
 }
 
 // Factor by which correlated residuals inflate a variance computed as if they were independent:
@@ -244,7 +247,7 @@ std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::V
 
 CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
                           const CurveFitOptions& options, const std::vector<bool>* mask,
-                          const EdgeObservations* edges) {
+                          const EdgeObservations* edges, const CurveModel* initial) {
   CurveFit fit;
   std::vector<int> usable;
   for (size_t i = 0; i < points.size(); ++i) {
@@ -276,6 +279,11 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   // the threshold, log(1 - 0.999) / log(1 - w^3) draws would have found an all-inlier sample.
   int needed = options.ransac_iterations;
   const int sampled = (m_obs + stride - 1) / stride;
+  if (initial) {
+    best = *initial;
+    best_cost = 0.0;
+    needed = 0;
+  }
   for (int it = 0; it < std::min(needed, options.ransac_iterations); ++it) {
     const int a = usable[rng.uniform(0, n)], b = usable[rng.uniform(0, n)],
               c = usable[rng.uniform(0, n)];

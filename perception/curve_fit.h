@@ -119,9 +119,11 @@ struct EdgeObservations {
 // from the points (chord midpoints) but are scored and refined on the edges, each at half the
 // width from the curve: where a chord crosses a fork or a worn edge, its one good edge still
 // counts and the other is an outlier. `mask` (optional) marks the points that may be used.
+// `initial` (optional) replaces the RANSAC hypotheses: a model known to be near (tracking).
 CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
                           const CurveFitOptions& options, const std::vector<bool>* mask = nullptr,
-                          const EdgeObservations* edges = nullptr);
+                          const EdgeObservations* edges = nullptr,
+                          const CurveModel* initial = nullptr);
 
 // The curve through three points (a line when they are collinear), oriented along `forward`.
 std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,

@@ -1,7 +1,9 @@
 #include "perception/edge_scan.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace agv::perception {
 namespace {
@@ -76,6 +78,95 @@ void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int la
   if (start >= 0) runs->push_back({start, last});
 }
 
+// The tape's two edges on one contrast profile whose samples [run_lo, run_hi] hold the tape
+// (its peak is searched there only; the flanks may hold other tape), with at least 2 * side
+// floor samples beyond each edge: the places where the profile crosses half-way between the
+// local floor level (each side separately: the median of its outermost `side` samples) and the
+// tape level next to that edge. Positions are sub-pixel sample indices.
+struct ProfileEdges {
+  float first = 0.0f, second = 0.0f;
+  float contrast = 0.0f;  // tape level minus floor level
+};
+
+std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile, int run_lo,
+                                               int run_hi, int side, int max_dip,
+                                               float min_contrast, std::vector<float>* scratch) {
+  const int count = static_cast<int>(profile.size());
+  const float floor_first = median_of(profile.data(), profile.data() + side, scratch);
+  const float floor_second =
+      median_of(profile.data() + count - side, profile.data() + count, scratch);
+  const int peak = static_cast<int>(
+      std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) - profile.begin());
+  // Tape level: mean of the samples in the upper half between floor and peak. It sets the
+  // threshold of both edges alike, so its error moves them apart or together and leaves
+  // their midpoint, the centre line, where it is: a mean is precise enough.
+  const float floor_level = 0.5f * (floor_first + floor_second);
+  const float upper = 0.5f * (floor_level + profile[peak]);
+  float tape_sum = 0.0f;
+  int tape_count = 0;
+  for (int i = run_lo; i <= run_hi; ++i) {
+    if (profile[i] <= upper) continue;
+    tape_sum += profile[i];
+    ++tape_count;
+  }
+  const float tape_level = tape_sum / std::max(1, tape_count);
+  const float contrast = tape_level - floor_level;
+  if (contrast < min_contrast) return std::nullopt;
+
+  // Walk outwards from the peak to the half-way crossings, each against its own floor level.
+  const float threshold_first = 0.5f * (floor_first + tape_level);
+  const float threshold_second = 0.5f * (floor_second + tape_level);
+  int i = walk_to_edge(profile, peak, -1, threshold_first, max_dip);
+  int j = walk_to_edge(profile, peak, +1, threshold_second, max_dip);
+  if (i < side || j > count - 1 - side) return std::nullopt;  // beyond the floor samples
+  // Second pass with the tape's level next to each edge: a shadow edge or a light gradient
+  // across the tape makes it differ from one side of the tape to the other.
+  const int inside = std::max(2, (j - i) / 4);
+  auto mean_of = [&](int from, int to) {
+    float sum = 0.0f;
+    int n = 0;
+    for (int k = std::max(0, from); k <= std::min(count - 1, to); ++k, ++n) sum += profile[k];
+    return n ? sum / n : tape_level;
+  };
+  const float local_first = 0.5f * (floor_first + mean_of(i + 2, i + 1 + inside));
+  const float local_second = 0.5f * (floor_second + mean_of(j - 1 - inside, j - 2));
+  i = walk_to_edge(profile, peak, -1, local_first, max_dip);
+  j = walk_to_edge(profile, peak, +1, local_second, max_dip);
+  if (i < side || j > count - 1 - side) return std::nullopt;
+  ProfileEdges edges;
+  edges.first = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
+  edges.second = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
+  edges.contrast = contrast;
+  return edges;
+}
+
+// Contrast profile of samples [lo, lo + count) of one image row (along_rows) or column, smoothed
+// by a symmetric [1 2 1] / 4 kernel, which lowers noise without moving a symmetric edge.
+void contrast_profile(const cv::Mat& frame, const ContrastAxis& axis, bool along_rows, int line,
+                      int lo, int count, std::vector<float>* raw, std::vector<float>* profile) {
+  const size_t pixel_bytes = frame.elemSize();
+  const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes
+                                          : frame.ptr<unsigned char>(lo) + line * pixel_bytes;
+  const size_t stride = along_rows ? pixel_bytes : frame.step[0];
+  sample_contrast(first, stride, count, frame.channels(), axis, raw);
+  profile->resize(count);
+  (*profile)[0] = (*raw)[0];
+  (*profile)[count - 1] = (*raw)[count - 1];
+  for (int i = 1; i + 1 < count; ++i)
+    (*profile)[i] = 0.25f * (*raw)[i - 1] + 0.5f * (*raw)[i] + 0.25f * (*raw)[i + 1];
+}
+
+EdgePair edge_pair(const ProfileEdges& found, int lo, int line, bool along_rows) {
+  EdgePair pair;
+  pair.contrast = found.contrast;
+  pair.along_rows = along_rows;
+  const float a = lo + found.first, b = lo + found.second;
+  const float l = static_cast<float>(line);
+  pair.first_px = along_rows ? cv::Point2f(a, l) : cv::Point2f(l, a);
+  pair.second_px = along_rows ? cv::Point2f(b, l) : cv::Point2f(l, b);
+  return pair;
+}
+
 }  // namespace
 
 std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
@@ -83,8 +174,6 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
                                       bool along_rows, const EdgeScanOptions& options) {
   std::vector<EdgePair> edges;
   const int ds = coarse.downsample;
-  const int channels = frame.channels();
-  const size_t pixel_bytes = frame.elemSize();
   const int line_length = along_rows ? frame.cols : frame.rows;  // samples on one scan line
   const int line_count = along_rows ? frame.rows : frame.cols;
   const cv::Rect& box = region.box_small;
@@ -107,76 +196,132 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       const int hi = std::min(line_length - 1, run.hi * ds + ds - 1 + reach);
       if (run.lo * ds - lo < 2 * side || hi - (run.hi * ds + ds - 1) < 2 * side) continue;
       const int count = hi - lo + 1;
-      const unsigned char* first = along_rows ? frame.ptr<unsigned char>(line) + lo * pixel_bytes
-                                              : frame.ptr<unsigned char>(lo) + line * pixel_bytes;
-      const size_t stride = along_rows ? pixel_bytes : frame.step[0];
-      sample_contrast(first, stride, count, channels, axis, &raw);
-      // A symmetric [1 2 1] / 4 smoothing lowers noise without moving a symmetric edge.
-      profile.resize(count);
-      profile[0] = raw[0];
-      profile[count - 1] = raw[count - 1];
-      for (int i = 1; i + 1 < count; ++i)
-        profile[i] = 0.25f * raw[i - 1] + 0.5f * raw[i] + 0.25f * raw[i + 1];
-
-      const float floor_first = median_of(profile.data(), profile.data() + side, &scratch);
-      const float floor_second =
-          median_of(profile.data() + count - side, profile.data() + count, &scratch);
-      // The peak is searched over the run itself, not the flanks (which may hold other tape).
+      contrast_profile(frame, axis, along_rows, line, lo, count, &raw, &profile);
       const int run_lo = std::max(0, run.lo * ds - lo),
                 run_hi = std::min(count - 1, run.hi * ds + ds - 1 - lo);
-      const int peak = static_cast<int>(
-          std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) -
-          profile.begin());
-      // Tape level: mean of the samples in the upper half between floor and peak. It sets the
-      // threshold of both edges alike, so its error moves them apart or together and leaves
-      // their midpoint, the centre line, where it is: a mean is precise enough.
-      const float floor_level = 0.5f * (floor_first + floor_second);
-      const float upper = 0.5f * (floor_level + profile[peak]);
-      float tape_sum = 0.0f;
-      int tape_count = 0;
-      for (int i = run_lo; i <= run_hi; ++i) {
-        if (profile[i] <= upper) continue;
-        tape_sum += profile[i];
-        ++tape_count;
-      }
-      const float tape_level = tape_sum / std::max(1, tape_count);
-      const float contrast = tape_level - floor_level;
-      if (contrast < min_contrast) continue;
-
-      // Walk outwards from the peak to the half-way crossings, each against its own floor level.
-      const float threshold_first = 0.5f * (floor_first + tape_level);
-      const float threshold_second = 0.5f * (floor_second + tape_level);
-      int i = walk_to_edge(profile, peak, -1, threshold_first, options.max_dip_px);
-      int j = walk_to_edge(profile, peak, +1, threshold_second, options.max_dip_px);
-      if (i < side || j > count - 1 - side)
-        continue;  // the crossings must lie beyond the floor samples
-      // Second pass with the tape's level next to each edge: a shadow edge or a light gradient
-      // across the tape makes it differ from one side of the tape to the other.
-      const int inside = std::max(2, (j - i) / 4);
-      auto mean_of = [&](int from, int to) {
-        float sum = 0.0f;
-        int n = 0;
-        for (int k = std::max(0, from); k <= std::min(count - 1, to); ++k, ++n) sum += profile[k];
-        return n ? sum / n : tape_level;
-      };
-      const float local_first = 0.5f * (floor_first + mean_of(i + 2, i + 1 + inside));
-      const float local_second = 0.5f * (floor_second + mean_of(j - 1 - inside, j - 2));
-      i = walk_to_edge(profile, peak, -1, local_first, options.max_dip_px);
-      j = walk_to_edge(profile, peak, +1, local_second, options.max_dip_px);
-      if (i < side || j > count - 1 - side) continue;
-      const float first_pos = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
-      const float second_pos = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
-
-      EdgePair pair;
-      pair.contrast = contrast;
-      pair.along_rows = along_rows;
-      const float a = lo + first_pos, b = lo + second_pos;
-      const float l = static_cast<float>(line);
-      pair.first_px = along_rows ? cv::Point2f(a, l) : cv::Point2f(l, a);
-      pair.second_px = along_rows ? cv::Point2f(b, l) : cv::Point2f(l, b);
-      edges.push_back(pair);
+      const auto found = find_profile_edges(profile, run_lo, run_hi, side, options.max_dip_px,
+                                            min_contrast, &scratch);
+      if (found) edges.push_back(edge_pair(*found, lo, line, along_rows));
     }
   }
+  return edges;
+}
+
+namespace {
+
+// Buffers reused from one scan line to the next.
+struct ScanBuffers {
+  std::vector<float> raw, profile, scratch;
+};
+
+// One line of a band, the predicted run widened by margin_px (and 2 * side floor samples beyond
+// it): the tape's edges, or nullopt. Counts windows inside the image and covered ones.
+std::optional<EdgePair> scan_band_line(const cv::Mat& frame, const ContrastAxis& axis,
+                                       const PredictedBand& band, int line, double margin_px,
+                                       int side, int max_dip, ScanBuffers* buffers,
+                                       PredictedScanStats* counts) {
+  const bool along_rows = band.along_rows;
+  const int line_length = along_rows ? frame.cols : frame.rows;
+  const auto [first, second] = band.edges_at(line);
+  // The predicted tape must lie inside the image with floor samples beyond it; the margin is
+  // clipped to the image.
+  const double tape_lo = std::min(first, second), tape_hi = std::max(first, second);
+  if (tape_lo < 2 * side || tape_hi > line_length - 1 - 2 * side) return std::nullopt;
+  const int run_lo = std::max(2 * side, static_cast<int>(std::floor(tape_lo - margin_px)));
+  const int run_hi =
+      std::min(line_length - 1 - 2 * side, static_cast<int>(std::ceil(tape_hi + margin_px)));
+  const int lo = run_lo - 2 * side, hi = run_hi + 2 * side;
+  const int count = hi - lo + 1;
+  std::vector<float>& profile = buffers->profile;
+  contrast_profile(frame, axis, along_rows, line, lo, count, &buffers->raw, &profile);
+  ++counts->windows;
+  // Tape (about 1) rather than floor (about 0) at either end of the window.
+  const float end_first = median_of(profile.data(), profile.data() + side, &buffers->scratch);
+  const float end_second =
+      median_of(profile.data() + count - side, profile.data() + count, &buffers->scratch);
+  if (std::max(end_first, end_second) > 0.5f) {
+    ++counts->covered;
+    return std::nullopt;
+  }
+  const auto found = find_profile_edges(profile, run_lo - lo, run_hi - lo, side, max_dip,
+                                        band.min_contrast, &buffers->scratch);
+  if (!found) return std::nullopt;
+  return edge_pair(*found, lo, line, along_rows);
+}
+
+}  // namespace
+
+std::pair<double, double> PredictedBand::edges_at(int line) const {
+  const double l = line;
+  return {first[0] + first[1] * l + first[2] * l * l,
+          second[0] + second[1] * l + second[2] * l * l};
+}
+
+std::optional<PredictedBand> recentre_band(const cv::Mat& frame, const ContrastAxis& axis,
+                                           const PredictedBand& band, double search_margin_px,
+                                           const EdgeScanOptions& options, int lines) {
+  const int line_count = band.along_rows ? frame.rows : frame.cols;
+  const int first_line = std::max(0, band.first_line);
+  const int last_line = std::min(line_count - 1, band.last_line);
+  if (last_line <= first_line || lines < 3) return std::nullopt;
+  const int side = std::max(3, options.margin_px / 2);
+  ScanBuffers buffers;
+  PredictedScanStats counts;
+  std::vector<Eigen::Vector2d> shifts;  // (line, found centre - predicted centre)
+  for (int k = 0; k < lines; ++k) {
+    const int line = first_line + static_cast<int>((k + 0.5) * (last_line - first_line) / lines);
+    const auto pair = scan_band_line(frame, axis, band, line, search_margin_px, side,
+                                     options.max_dip_px, &buffers, &counts);
+    if (!pair) continue;
+    const auto [first, second] = band.edges_at(line);
+    const double found = band.along_rows ? 0.5 * (pair->first_px.x + pair->second_px.x)
+                                         : 0.5 * (pair->first_px.y + pair->second_px.y);
+    shifts.emplace_back(line, found - 0.5 * (first + second));
+  }
+  if (2 * static_cast<int>(shifts.size()) < lines) return std::nullopt;
+  // shift = a + b (line - middle), least squares with two rounds of Cauchy weights (scale: a
+  // tenth of the tape's width), so that a line that caught something else counts little.
+  const double middle = 0.5 * (first_line + last_line);
+  const auto [first_mid, second_mid] = band.edges_at(static_cast<int>(middle));
+  const double scale_px = std::max(1.0, 0.1 * std::abs(second_mid - first_mid));
+  Eigen::Vector2d ab = Eigen::Vector2d::Zero();
+  for (int round = 0; round < 3; ++round) {
+    Eigen::Matrix2d ata = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d atb = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& ls : shifts) {
+      const Eigen::Vector2d row(1.0, ls.x() - middle);
+      const double r = round == 0 ? 0.0 : (ls.y() - row.dot(ab)) / scale_px;
+      const double w = 1.0 / (1.0 + r * r);
+      ata += w * row * row.transpose();
+      atb += w * row * ls.y();
+    }
+    ab = ata.ldlt().solve(atb);
+  }
+  if (!ab.allFinite()) return std::nullopt;
+  PredictedBand moved = band;
+  const Eigen::Vector3d shift(ab[0] - ab[1] * middle, ab[1], 0.0);
+  moved.first += shift;
+  moved.second += shift;
+  return moved;
+}
+
+std::vector<EdgePair> scan_predicted_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                           const PredictedBand& band,
+                                           const EdgeScanOptions& options,
+                                           PredictedScanStats* stats) {
+  std::vector<EdgePair> edges;
+  PredictedScanStats counts;
+  const int line_count = band.along_rows ? frame.rows : frame.cols;
+  const int side = std::max(3, options.margin_px / 2);
+  ScanBuffers buffers;
+  const int first_line = std::max(0, band.first_line);
+  const int last_line = std::min(line_count - 1, band.last_line);
+  for (int line = first_line; line <= last_line; line += std::max(1, band.step)) {
+    const auto pair = scan_band_line(frame, axis, band, line, band.margin_px, side,
+                                     options.max_dip_px, &buffers, &counts);
+    if (pair) edges.push_back(*pair);
+  }
+  if (stats) *stats = counts;
   return edges;
 }
 

@@ -1,6 +1,9 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <optional>
+#include <utility>
 #include <vector>
 
 #include "perception/contrast_axis.h"
@@ -33,5 +36,43 @@ struct EdgeScanOptions {
 std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
                                       const TapeRegions& coarse, const TapeRegion& region,
                                       bool along_rows, const EdgeScanOptions& options);
+
+// Where the tape is expected in a frame, from the frame before (tracking): on scan lines
+// first_line, first_line + step, ... up to last_line (image rows when along_rows, else
+// columns), its two edges at coordinates along the line given by quadratics in the line index,
+// c[0] + c[1] l + c[2] l^2. The tape may have moved by margin_px since. The contrast axis maps
+// the floor to about 0 and the tape to about 1.
+struct PredictedBand {
+  bool along_rows = true;
+  int first_line = 0, last_line = -1, step = 1;
+  Eigen::Vector3d first = Eigen::Vector3d::Zero(), second = Eigen::Vector3d::Zero();
+  double margin_px = 8.0;
+  float min_contrast = 0.1f;  // on the contrast axis
+
+  std::pair<double, double> edges_at(int line) const;  // predicted first, second edge
+};
+
+// Moves a band onto where the tape is in this frame (the vehicle moved since the band was
+// predicted): on `lines` lines spread over the band, the tape is searched within
+// search_margin_px of the prediction; the shift of its centre, a linear function of the line
+// index fitted robustly, moves both edges. Nullopt when fewer than half the lines find tape.
+std::optional<PredictedBand> recentre_band(const cv::Mat& frame, const ContrastAxis& axis,
+                                           const PredictedBand& band, double search_margin_px,
+                                           const EdgeScanOptions& options, int lines = 9);
+
+// Scans each line of the band for the tape's two edges, within the predicted run widened by
+// the margin (and floor samples beyond it), like scan_tape_edges. Lines whose window leaves the
+// image, or where no tape stands out, give no pair; neither does a line where the tape runs
+// beyond the window (a crossing tape, or one that moved too far).
+// `stats` (optional) receives how many lines had their window in the image, and on how many
+// of them tape reached the window's end (covered: another tape crosses or joins the band).
+struct PredictedScanStats {
+  int windows = 0;
+  int covered = 0;
+};
+std::vector<EdgePair> scan_predicted_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                           const PredictedBand& band,
+                                           const EdgeScanOptions& options,
+                                           PredictedScanStats* stats = nullptr);
 
 }  // namespace agv::perception

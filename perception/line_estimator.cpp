@@ -1,5 +1,6 @@
 #include "perception/line_estimator.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
@@ -15,6 +16,63 @@ LineMeasurement not_found(double stamp_s, const std::string& reason, LineDetecti
   LineMeasurement m;
   m.stamp_s = stamp_s;
   return m;
+}
+
+// Coefficients (c0, c1, c2) of the quadratic in l through (l_i, x_i), least squares; a line when
+// the evidence spans too few lines to show a bend. Solved in a centred, scaled variable.
+Eigen::Vector3d quadratic_fit(const std::vector<Eigen::Vector2d>& lx, bool with_bend) {
+  double lo = 1e18, hi = -1e18;
+  for (const Eigen::Vector2d& p : lx) {
+    lo = std::min(lo, p.x());
+    hi = std::max(hi, p.x());
+  }
+  const double origin = 0.5 * (lo + hi), scale = std::max(1.0, 0.5 * (hi - lo));
+  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d atx = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector2d& p : lx) {
+    const double t = (p.x() - origin) / scale;
+    const Eigen::Vector3d row(1.0, t, with_bend ? t * t : 0.0);
+    ata += row * row.transpose();
+    atx += row * p.y();
+  }
+  if (!with_bend) ata(2, 2) = 1.0;
+  const Eigen::Vector3d c = ata.ldlt().solve(atx);
+  // c0 + c1 (l - o) / S + c2 (l - o)^2 / S^2, expanded in l.
+  const double s2 = scale * scale;
+  return {c[0] - c[1] * origin / scale + c[2] * origin * origin / s2,
+          c[1] / scale - 2.0 * c[2] * origin / s2, c[2] / s2};
+}
+
+// Where the previous frame's followed line predicts the tape: its clean chords' edges along the
+// scan direction most of them used, extended by 15 % of the image beyond the evidence.
+std::optional<PredictedBand> band_of(const LineDetection& previous, const cv::Size& image) {
+  if (previous.followed < 0 || previous.followed >= static_cast<int>(previous.lines.size()))
+    return std::nullopt;
+  const DetectedLine& line = previous.lines[previous.followed];
+  int rows = 0;
+  for (int index : line.clean_chords) rows += previous.edges[index].along_rows ? 1 : 0;
+  PredictedBand band;
+  band.along_rows = 2 * rows >= static_cast<int>(line.clean_chords.size());
+  std::vector<Eigen::Vector2d> firsts, seconds;
+  double l_min = 1e18, l_max = -1e18;
+  for (int index : line.clean_chords) {
+    const EdgePair& e = previous.edges[index];
+    if (e.along_rows != band.along_rows) continue;
+    const double l = band.along_rows ? e.first_px.y : e.first_px.x;
+    firsts.emplace_back(l, band.along_rows ? e.first_px.x : e.first_px.y);
+    seconds.emplace_back(l, band.along_rows ? e.second_px.x : e.second_px.y);
+    l_min = std::min(l_min, l);
+    l_max = std::max(l_max, l);
+  }
+  if (firsts.size() < 8) return std::nullopt;
+  const int line_count = band.along_rows ? image.height : image.width;
+  const bool with_bend = l_max - l_min >= 0.2 * line_count;
+  band.first = quadratic_fit(firsts, with_bend);
+  band.second = quadratic_fit(seconds, with_bend);
+  const double extend = 0.15 * line_count;
+  band.first_line = std::max(0, static_cast<int>(std::floor(l_min - extend)));
+  band.last_line = std::min(line_count - 1, static_cast<int>(std::ceil(l_max + extend)));
+  return band;
 }
 
 }  // namespace
@@ -45,14 +103,8 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   LineDetection local;
   LineDetection& d = details ? *details : local;
   d = LineDetection{};
-  const CameraIntrinsics& intrinsics = camera_.intrinsics();
-  if (frame.empty()) return not_found(stamp_s, "empty frame", &d);
-  if (frame.cols != intrinsics.width_px || frame.rows != intrinsics.height_px) {
-    return not_found(stamp_s, "frame size differs from the camera's", &d);
-  }
-  if (frame.type() != CV_8UC3 && frame.type() != CV_8UC1) {
-    return not_found(stamp_s, "frame is not 8-bit BGR or grey", &d);
-  }
+  if (const std::string problem = frame_problem(frame); !problem.empty())
+    return not_found(stamp_s, problem, &d);
 
   // Block means over ds x ds pixels; in 2x steps, which OpenCV does three times faster than
   // one 4x step, with the same result.
@@ -68,6 +120,8 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   const TapeRegions coarse =
       find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
   if (coarse.regions.empty()) return not_found(stamp_s, "no tape-like region", &d);
+  d.axis = *axis;
+  d.floor_noise = coarse.floor_noise;
 
   // The bar response covers at least the tape's middle half: 0.6 of a width beyond it reaches
   // past the edges onto the floor.
@@ -100,6 +154,66 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   d.lines = extract_lines(d.chords, options_.lines, &rejections);
   if (d.lines.empty())
     return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
+  return measurement_of(d, frame, stamp_s);
+}
+
+LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
+                                     const LineDetection& previous, LineDetection* details) const {
+  LineDetection local;
+  LineDetection& d = details ? *details : local;
+  d = LineDetection{};
+  d.tracked = true;
+  if (const std::string problem = frame_problem(frame); !problem.empty())
+    return not_found(stamp_s, problem, &d);
+  std::optional<PredictedBand> band = band_of(previous, frame.size());
+  if (!band) return not_found(stamp_s, "no line in the frame before to track", &d);
+  const DetectedLine& prior = previous.lines[previous.followed];
+  const double footprint_m = floor_map_.typical_footprint_m();
+  band->step = std::max(1, options_.track_step);
+  band->min_contrast = options_.scan.min_contrast_to_noise * std::max(previous.floor_noise, 0.01f);
+  EdgeScanOptions scan = options_.scan;
+  scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * tape_width_px_));
+  // First where the tape went (a coarse search on a few lines), then a narrow band around it.
+  band = recentre_band(frame, previous.axis, *band,
+                       std::max(options_.track_search_m, prior.width_m) / footprint_m, scan);
+  if (!band) return not_found(stamp_s, "the tracked tape is no longer where it was", &d);
+  band->margin_px = std::max(options_.track_margin_m, 0.1 * prior.width_m) / footprint_m;
+  PredictedScanStats stats;
+  const std::vector<EdgePair> edges =
+      scan_predicted_edges(frame, previous.axis, *band, scan, &stats);
+  d.axis = previous.axis;
+  d.floor_noise = previous.floor_noise;
+  if (stats.covered > std::max(2, stats.windows / 20))
+    return not_found(stamp_s, "another tape crosses the tracked band", &d);
+  for (const EdgePair& pair : edges) {
+    const auto a = floor_map_.at(pair.first_px.x, pair.first_px.y);
+    const auto b = floor_map_.at(pair.second_px.x, pair.second_px.y);
+    if (!a || !b) continue;
+    d.edges.push_back(pair);
+    d.chords.push_back({*a, *b});
+  }
+  LineSetOptions lines = options_.lines;
+  lines.scan_spacing_m = footprint_m * band->step;
+  std::vector<std::string> rejections;
+  // The prior as the frame before saw it (not its near-part model, which is a local correction).
+  std::optional<DetectedLine> line =
+      track_line(d.chords, prior.model, prior.width_m, lines, &rejections);
+  if (!line) return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
+  d.lines.push_back(std::move(*line));
+  return measurement_of(d, frame, stamp_s);
+}
+
+std::string LineEstimator::frame_problem(const cv::Mat& frame) const {
+  const CameraIntrinsics& intrinsics = camera_.intrinsics();
+  if (frame.empty()) return "empty frame";
+  if (frame.cols != intrinsics.width_px || frame.rows != intrinsics.height_px)
+    return "frame size differs from the camera's";
+  if (frame.type() != CV_8UC3 && frame.type() != CV_8UC1) return "frame is not 8-bit BGR or grey";
+  return "";
+}
+
+LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& frame,
+                                              double stamp_s) const {
   // Where the evidence of each line ends: at the image border the tape goes on unseen.
   const double border_px = 0.04 * std::min(frame.cols, frame.rows);
   auto near_border = [&](const Eigen::Vector2d& p) {

@@ -30,6 +30,9 @@ struct LineDetection {
   int followed = -1;                 // index in `lines` of the line reported
   CurveModel followed_model;         // that line, oriented along the travel direction
   std::string rejected_because;      // why no line, when none
+  bool tracked = false;              // found from the frame before's line (LineEstimator::track)
+  ContrastAxis axis;                 // the colour axis the tape was found on
+  float floor_noise = 0.0f;          // robust noise of the floor's contrast on that axis
 };
 
 // Finds the guide line(s) in a frame and reports the one to follow as (e_theta, e_d, curvature)
@@ -56,6 +59,11 @@ class LineEstimator {
     EdgeScanOptions scan;
     BranchChoice branch = BranchChoice::kStraight;
     double max_branch_turn_rad = 1.05;  // sharper branches are taken when reached (60 deg)
+    int track_step = 4;                 // track: scan every track_step-th row or column
+    double track_search_m = 0.02;       // track: the tape may move this much (or a width)
+    double track_margin_m = 0.002;      // track: band margin around the moved tape (or 0.1 w)
+    bool tracking = true;               // TrackingLineEstimator: track between full searches
+    int search_every_frames = 10;       // TrackingLineEstimator: full search at least this often
   };
 
   LineEstimator(const CameraModel& camera, const Options& options);
@@ -65,11 +73,25 @@ class LineEstimator {
   LineMeasurement estimate(const cv::Mat& frame, double stamp_s,
                            LineDetection* details = nullptr) const;
 
+  // The same, for a frame that follows `previous` (a detection that found a line): the frame is
+  // scanned only where the previous line, widened by a margin, predicts the tape, on the same
+  // colour axis, and one fit started from the previous model gives the line, with the same
+  // checks as estimate. Much faster; it sees only the line it follows. line_found = false (with
+  // the reason) when the tape is not where predicted, when another tape crosses the band (a
+  // junction) or the evidence fails a check: the caller then runs estimate.
+  LineMeasurement track(const cv::Mat& frame, double stamp_s, const LineDetection& previous,
+                        LineDetection* details = nullptr) const;
+
   const FloorMap& floor_map() const { return floor_map_; }
   const CameraModel& camera() const { return camera_; }
   const Options& options() const { return options_; }
 
  private:
+  // The reason a frame cannot be measured (size, type), or empty.
+  std::string frame_problem(const cv::Mat& frame) const;
+  // From the lines found (d.lines not empty): junction, branch choice and the measurement.
+  LineMeasurement measurement_of(LineDetection& d, const cv::Mat& frame, double stamp_s) const;
+
   CameraModel camera_;
   Options options_;
   FloorMap floor_map_;

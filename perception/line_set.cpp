@@ -1,5 +1,6 @@
 #include "perception/line_set.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -182,6 +183,102 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   return candidate;
 }
 
+// The chords as the fits see them; `usable` marks those not much longer than the tape is wide
+// (a longer one runs along the tape or through a junction: its midpoint is on no centre line).
+ChordSet chord_set(const std::vector<Chord>& chords, const LineSetOptions& options,
+                   std::vector<bool>* usable) {
+  ChordSet c;
+  const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.15;
+  usable->clear();
+  for (const Chord& chord : chords) {
+    c.centres.push_back(chord.centre());
+    c.firsts.push_back(chord.a);
+    c.seconds.push_back(chord.b);
+    usable->push_back((chord.a - chord.b).norm() <= max_chord_m);
+  }
+  return c;
+}
+
+// Checks a candidate's evidence and makes it a line, or says why not (in `rejections`).
+std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vector<Chord>& chords,
+                                     const ChordSet& c, const LineSetOptions& options,
+                                     std::vector<std::string>* rejections) {
+  auto reject = [&](const std::string& why) {
+    if (rejections) rejections->push_back(why);
+  };
+  const CurveFit& fit = candidate.fit;
+  DetectedLine line;
+  line.model = fit.model;
+  line.residual_rms_m = fit.rms_m;
+  line.s_min_m = fit.s_min_m;
+  line.s_max_m = fit.s_max_m;
+  line.points_used = fit.inlier_count;
+  std::vector<double> widths;
+  for (size_t i = 0; i < chords.size(); ++i) {
+    if (!fit.inliers[i]) continue;
+    line.chords.push_back(static_cast<int>(i));
+    // Width and clean chords: both edges on this tape (not one edge at a fork).
+    if (candidate.edge_inliers.empty() || candidate.edge_inliers[i] == 3) {
+      line.clean_chords.push_back(static_cast<int>(i));
+      widths.push_back(chord_width(chords[i], fit.model));
+    }
+  }
+  line.width_m = quantile(widths, 0.5);
+  line.width_spread_m = quantile(widths, 0.9) - quantile(widths, 0.1);
+  const double span_m = fit.s_max_m - fit.s_min_m;
+  // How much of the evidence near this line it explains: chords whose centre lies within a
+  // tape width of it but are not inliers speak against it.
+  int near = 0;
+  const CurveModel::Prepared curve = fit.model.prepared();
+  for (size_t i = 0; i < chords.size(); ++i) {
+    if (std::abs(curve.signed_distance(c.centres[i])) < std::max(line.width_m, 0.005)) ++near;
+  }
+  const double inlier_fraction = static_cast<double>(fit.inlier_count) / std::max(1, near);
+  if (span_m < options.min_visible_length_m) {
+    reject("visible tape too short");
+    return std::nullopt;
+  }
+  // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
+  // texture blobs has it only here and there.
+  line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
+  if (line.coverage < options.min_coverage) {
+    reject("evidence too sparse along the line");
+    return std::nullopt;
+  }
+  if (inlier_fraction < options.min_inlier_fraction) {
+    reject("edge points do not lie on one line");
+    return std::nullopt;
+  }
+  double width_error = 0.0;
+  if (options.expected_width_m > 0.0) {
+    width_error = std::abs(line.width_m - options.expected_width_m) / options.expected_width_m;
+    if (width_error > options.width_tolerance) {
+      char why[128];
+      std::snprintf(why, sizeof(why), "tape width %.1f mm does not match the configured %.1f mm",
+                    1e3 * line.width_m, 1e3 * options.expected_width_m);
+      reject(why);
+      return std::nullopt;
+    }
+  }
+  if (line.width_spread_m > options.width_spread_tolerance * line.width_m + 0.0005) {
+    reject("tape width varies along the line");
+    return std::nullopt;
+  }
+  // Confidence: every factor is 1 for a clean, fully visible tape of the right width.
+  const double span_factor = std::min(1.0, span_m / options.full_span_m);
+  const double width_factor =
+      options.expected_width_m > 0.0 ? std::exp(-0.5 * std::pow(width_error / 0.15, 2)) : 1.0;
+  const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));
+  const double coverage_factor = std::min(1.0, line.coverage / 0.6);
+  line.confidence = std::min(1.0, inlier_fraction) * span_factor * width_factor * residual_factor *
+                    coverage_factor;
+  if (line.confidence < options.min_confidence) {
+    reject("evidence too weak");
+    return std::nullopt;
+  }
+  return line;
+}
+
 }  // namespace
 
 std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
@@ -191,92 +288,8 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
   auto reject = [&](const std::string& why) {
     if (rejections) rejections->push_back(why);
   };
-  ChordSet c;
   std::vector<bool> available;
-  // A chord much longer than the tape is wide runs along the tape (or through a junction):
-  // its midpoint is not on a centre line.
-  const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.15;
-  for (const Chord& chord : chords) {
-    c.centres.push_back(chord.centre());
-    c.firsts.push_back(chord.a);
-    c.seconds.push_back(chord.b);
-    available.push_back((chord.a - chord.b).norm() <= max_chord_m);
-  }
-
-  // Checks a candidate's evidence and makes it a line, or says why not.
-  auto evaluate = [&](const Candidate& candidate) -> std::optional<DetectedLine> {
-    const CurveFit& fit = candidate.fit;
-    DetectedLine line;
-    line.model = fit.model;
-    line.residual_rms_m = fit.rms_m;
-    line.s_min_m = fit.s_min_m;
-    line.s_max_m = fit.s_max_m;
-    line.points_used = fit.inlier_count;
-    std::vector<double> widths;
-    for (size_t i = 0; i < chords.size(); ++i) {
-      if (!fit.inliers[i]) continue;
-      line.chords.push_back(static_cast<int>(i));
-      // Width and clean chords: both edges on this tape (not one edge at a fork).
-      if (candidate.edge_inliers.empty() || candidate.edge_inliers[i] == 3) {
-        line.clean_chords.push_back(static_cast<int>(i));
-        widths.push_back(chord_width(chords[i], fit.model));
-      }
-    }
-    line.width_m = quantile(widths, 0.5);
-    line.width_spread_m = quantile(widths, 0.9) - quantile(widths, 0.1);
-    const double span_m = fit.s_max_m - fit.s_min_m;
-    // How much of the evidence near this line it explains: chords whose centre lies within a
-    // tape width of it but are not inliers speak against it.
-    int near = 0;
-    const CurveModel::Prepared curve = fit.model.prepared();
-    for (size_t i = 0; i < chords.size(); ++i) {
-      if (std::abs(curve.signed_distance(c.centres[i])) < std::max(line.width_m, 0.005)) ++near;
-    }
-    const double inlier_fraction = static_cast<double>(fit.inlier_count) / std::max(1, near);
-    if (span_m < options.min_visible_length_m) {
-      reject("visible tape too short");
-      return std::nullopt;
-    }
-    // Tape leaves evidence all along (even interrupted tape, in pieces); a chance alignment of
-    // texture blobs has it only here and there.
-    line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
-    if (line.coverage < options.min_coverage) {
-      reject("evidence too sparse along the line");
-      return std::nullopt;
-    }
-    if (inlier_fraction < options.min_inlier_fraction) {
-      reject("edge points do not lie on one line");
-      return std::nullopt;
-    }
-    double width_error = 0.0;
-    if (options.expected_width_m > 0.0) {
-      width_error = std::abs(line.width_m - options.expected_width_m) / options.expected_width_m;
-      if (width_error > options.width_tolerance) {
-        char why[128];
-        std::snprintf(why, sizeof(why), "tape width %.1f mm does not match the configured %.1f mm",
-                      1e3 * line.width_m, 1e3 * options.expected_width_m);
-        reject(why);
-        return std::nullopt;
-      }
-    }
-    if (line.width_spread_m > options.width_spread_tolerance * line.width_m + 0.0005) {
-      reject("tape width varies along the line");
-      return std::nullopt;
-    }
-    // Confidence: every factor is 1 for a clean, fully visible tape of the right width.
-    const double span_factor = std::min(1.0, span_m / options.full_span_m);
-    const double width_factor =
-        options.expected_width_m > 0.0 ? std::exp(-0.5 * std::pow(width_error / 0.15, 2)) : 1.0;
-    const double residual_factor = 1.0 / (1.0 + std::pow(fit.rms_m / 0.0005, 2));
-    const double coverage_factor = std::min(1.0, line.coverage / 0.6);
-    line.confidence = std::min(1.0, inlier_fraction) * span_factor * width_factor *
-                      residual_factor * coverage_factor;
-    if (line.confidence < options.min_confidence) {
-      reject("evidence too weak");
-      return std::nullopt;
-    }
-    return line;
-  };
+  const ChordSet c = chord_set(chords, options, &available);
 
   for (int attempt = 0;
        attempt < 2 * options.max_lines && static_cast<int>(lines.size()) < options.max_lines;
@@ -296,7 +309,8 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
     for (size_t i = 0; i < chords.size(); ++i) {
       if (candidate->fit.inliers[i]) available[i] = false;  // used, accepted or not
     }
-    if (auto line = evaluate(*candidate)) lines.push_back(std::move(*line));
+    if (auto line = evaluate(*candidate, chords, c, options, rejections))
+      lines.push_back(std::move(*line));
     // A fork seen where its two tapes still overlap: the other reading of the one-edge chords is
     // a line of its own when it leaves in another direction.
     if (alternative && static_cast<int>(lines.size()) < options.max_lines) {
@@ -307,11 +321,70 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
       // Apart by the end of the evidence: a fork (a wear pattern's alternative differs by a
       // millimetre or two).
       if (apart_m > std::max(0.003, 0.2 * options.expected_width_m)) {
-        if (auto line = evaluate(*alternative)) lines.push_back(std::move(*line));
+        if (auto line = evaluate(*alternative, chords, c, options, rejections))
+          lines.push_back(std::move(*line));
       }
     }
   }
   return lines;
+}
+
+std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const CurveModel& prior,
+                                       double prior_width_m, const LineSetOptions& options,
+                                       std::vector<std::string>* rejections) {
+  std::vector<bool> usable;
+  const ChordSet c = chord_set(chords, options, &usable);
+  // The vehicle moved since the prior: its offset and turn show as a residual of the chord
+  // centres growing linearly along the curve, d = a + b s. Removing it (least squares with one
+  // round of Cauchy weights) brings the prior close enough for the fit's inlier band.
+  const CurveModel::Prepared prior_curve = prior.prepared();
+  std::vector<Eigen::Vector2d> samples;  // (s, d)
+  for (size_t i = 0; i < chords.size(); ++i) {
+    if (usable[i])
+      samples.emplace_back(prior.arc_position(c.centres[i]),
+                           prior_curve.signed_distance(c.centres[i]));
+  }
+  if (static_cast<int>(samples.size()) < options.min_points) {
+    if (rejections) rejections->push_back("too few edge points on the tracked tape");
+    return std::nullopt;
+  }
+  Eigen::Vector2d ab = Eigen::Vector2d::Zero();
+  double scale_m = 1.0;  // first round unweighted
+  for (int round = 0; round < 3; ++round) {
+    Eigen::Matrix2d ata = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d atd = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& sd : samples) {
+      const double r = (sd.y() - ab[0] - ab[1] * sd.x()) / scale_m;
+      const double w = 1.0 / (1.0 + r * r);
+      const Eigen::Vector2d row(1.0, sd.x());
+      ata += w * row * row.transpose();
+      atd += w * row * sd.y();
+    }
+    ab = ata.ldlt().solve(atd);
+    scale_m = std::max(0.001, 0.5 * prior_width_m);
+  }
+  CurveModel initial = prior;
+  initial.e_d_m -= ab[0];
+  initial.heading_rad += ab[1];
+  // Edges at half the prior's width, each on its side of the moved prior.
+  const double half_width_m = 0.5 * prior_width_m;
+  const CurveModel::Prepared initial_curve = initial.prepared();
+  std::vector<double> first_offsets(chords.size()), second_offsets(chords.size());
+  for (size_t i = 0; i < chords.size(); ++i) {
+    first_offsets[i] =
+        initial_curve.signed_distance(c.firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
+    second_offsets[i] =
+        initial_curve.signed_distance(c.seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
+  }
+  CurveFitOptions fit_options = options.fit;
+  fit_options.forward = initial.tangent();
+  const EdgeObservations edges{&c.firsts, &c.seconds, &first_offsets, &second_offsets};
+  const CurveFit fit = fit_curve_robust(c.centres, fit_options, &usable, &edges, &initial);
+  if (!fit.ok || fit.inlier_count < options.min_points) {
+    if (rejections) rejections->push_back("edge points do not lie on the tracked line");
+    return std::nullopt;
+  }
+  return evaluate(Candidate{fit, fit.edge_inliers}, chords, c, options, rejections);
 }
 
 }  // namespace agv::perception

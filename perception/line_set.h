@@ -58,6 +58,14 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
                                                   const LineSetOptions& options,
                                                   double sigmas = 4.0);
 
+// The line that `prior` (a line of the frame before, of measured width prior_width_m) has become
+// in this frame's chords, which come from scans where the prior predicted the tape: one fit on
+// the chords' edges started from the prior, then the same checks as extract_lines. Nullopt
+// (with the reason in `rejections`) when the chords do not make that line.
+std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const CurveModel& prior,
+                                       double prior_width_m, const LineSetOptions& options,
+                                       std::vector<std::string>* rejections = nullptr);
+
 // Up to max_lines lines through the chords' centres, found one after the other (the best
 // supported first), each checked for width, width consistency, length and straightness of
 // evidence. `rejections` (optional) receives why candidates were turned down.

@@ -1,0 +1,49 @@
+#include "perception/tracking_line_estimator.h"
+
+#include <utility>
+
+namespace agv::perception {
+
+TrackingLineEstimator::TrackingLineEstimator(const CameraModel& camera,
+                                             const LineEstimator::Options& options)
+    : estimator_(camera, options) {}
+
+void TrackingLineEstimator::reset() {
+  previous_.reset();
+  frames_since_search_ = 0;
+}
+
+LineMeasurement TrackingLineEstimator::measure(const cv::Mat& frame, double stamp_s,
+                                               LineDetection* details) {
+  const LineEstimator::Options& options = estimator_.options();
+  LineDetection detection;
+  LineMeasurement m;
+  const bool trackable = options.tracking && previous_ && previous_->lines.size() == 1 &&
+                         !previous_->junction &&
+                         frames_since_search_ + 1 < std::max(1, options.search_every_frames);
+  bool done = false;
+  if (trackable) {
+    m = estimator_.track(frame, stamp_s, *previous_, &detection);
+    done = m.line_found;
+    if (done) {
+      ++counts_.tracked;
+      ++frames_since_search_;
+    } else {
+      ++counts_.track_failed;
+    }
+  }
+  if (!done) {
+    m = estimator_.estimate(frame, stamp_s, &detection);
+    ++counts_.searched;
+    frames_since_search_ = 0;
+  }
+  if (details) *details = detection;
+  if (m.line_found) {
+    previous_ = std::move(detection);
+  } else {
+    previous_.reset();
+  }
+  return m;
+}
+
+}  // namespace agv::perception
