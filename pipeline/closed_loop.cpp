@@ -10,7 +10,7 @@
 
 #include "control/finite_step_controller.h"
 #include "control/pid_controller.h"
-#include "perception/line_estimator.h"
+#include "perception/tracking_line_estimator.h"
 #include "pipeline/frame_renderer.h"
 #include "pipeline/plant.h"
 #include "pipeline/scenario_loader.h"
@@ -93,7 +93,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
   const Clock::time_point wall_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
   const FrameRenderer renderer(camera, render_scene(s));
-  const perception::LineEstimator estimator(camera, perception_options(s));
+  perception::TrackingLineEstimator estimator(camera, perception_options(s));
   control::LineTracker tracker = make_tracker(s);
   Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
   TruthTracker truth_of(s.path, s.start_s_m);
@@ -116,7 +116,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
     Clock::time_point t0 = Clock::now();
     renderer.render_into(pose, plant.twist(), static_cast<std::uint64_t>(k), &frame);
     Clock::time_point t1 = Clock::now();
-    StampedMeasurement stamped{estimator.estimate(frame, t), truth, static_cast<std::uint64_t>(k)};
+    StampedMeasurement stamped{estimator.measure(frame, t), truth, static_cast<std::uint64_t>(k)};
     Clock::time_point t2 = Clock::now();
     result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
     result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();
@@ -153,7 +153,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   const Clock::time_point setup_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
   const FrameRenderer renderer(camera, render_scene(s));
-  const perception::LineEstimator estimator(camera, perception_options(s));
+  perception::TrackingLineEstimator estimator(camera, perception_options(s));  // camera thread
   const double setup_wall_s = seconds_since(setup_start);
   const Clock::time_point wall_start = Clock::now();
   const double ts = s.controller.ts_s;
@@ -194,7 +194,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
       Clock::time_point t0 = Clock::now();
       renderer.render_into(pose, twist, i, &frame);
       Clock::time_point t1 = Clock::now();
-      StampedMeasurement stamped{estimator.estimate(frame, t), truth, i};
+      StampedMeasurement stamped{estimator.measure(frame, t), truth, i};
       Clock::time_point t2 = Clock::now();
       {
         std::lock_guard<std::mutex> lock(frames_mutex);

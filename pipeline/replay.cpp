@@ -45,7 +45,7 @@ ReplayResult run_replay(const Dataset& dataset, const ReplayOptions& options,
   const Clock::time_point start = Clock::now();
   const perception::CameraModel camera =
       perception::camera_model_of(dataset.camera, dataset.camera_name);
-  const perception::LineEstimator estimator(camera, options.perception);
+  perception::TrackingLineEstimator estimator(camera, options.perception);
 
   // Frames: from the manifest, or decoded from the video as it plays.
   cv::VideoCapture video;
@@ -114,6 +114,7 @@ ReplayResult run_replay(const Dataset& dataset, const ReplayOptions& options,
       if (!options.skip_bad_frames) throw InputError(where + ": the frame " + *problem);
       frame.bad = true;
       frame.problem = *problem;
+      estimator.reset();  // the next frame is not a continuation of the last good one
       // A bad frame carries no measurement: the controller acts as if none arrived.
       const control::TrackerOutput output = tracker.step(std::nullopt, frame.t_s);
       frame.command = output.command;
@@ -122,7 +123,7 @@ ReplayResult run_replay(const Dataset& dataset, const ReplayOptions& options,
       continue;
     }
     const Clock::time_point t0 = Clock::now();
-    frame.measurement = estimator.estimate(image, frame.t_s, &detection);
+    frame.measurement = estimator.measure(image, frame.t_s, &detection);
     frame.perceive_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     const control::TrackerOutput output = tracker.step(frame.measurement, frame.t_s);
     frame.command = output.command;
@@ -136,6 +137,7 @@ ReplayResult run_replay(const Dataset& dataset, const ReplayOptions& options,
     }
   }
   result.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  result.perception_counts = estimator.counts();
   return result;
 }
 

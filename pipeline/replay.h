@@ -10,7 +10,7 @@
 #include "common/body_twist.h"
 #include "common/line_measurement.h"
 #include "control/vehicle_limits.h"
-#include "perception/line_estimator.h"
+#include "perception/tracking_line_estimator.h"
 #include "pipeline/closed_loop.h"
 #include "pipeline/dataset.h"
 #include "pipeline/scenario.h"
@@ -44,6 +44,7 @@ struct ReplayResult {
   double period_s = 0.1;  // control period used (median frame interval)
   std::string controller_name;
   double wall_s = 0.0;
+  perception::TrackingLineEstimator::Counts perception_counts;  // tracked vs searched frames
 };
 
 // Called for every good frame with what perception saw, e.g. to write an annotated video.

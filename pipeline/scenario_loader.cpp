@@ -210,6 +210,9 @@ Scenario load_scenario(const ScenarioText& source,
   fx.specular_y = in.number("image.specular.y", fx.specular_y, -0.5, 1.5);
   fx.specular_radius = in.number("image.specular.radius", fx.specular_radius, 0.005, 2.0);
   s.tape_color_hint = in.boolean("perception.use_tape_color_hint", s.tape_color_hint);
+  s.perception_tracking = in.boolean("perception.tracking", s.perception_tracking);
+  s.perception_search_every_frames = in.integer(
+      "perception.search_every_frames", s.perception_search_every_frames, 1, 100000);
 
   s.camera = read_camera(in, source, &s.camera_name);
   if (!s.camera.mount) {
@@ -304,6 +307,8 @@ perception::LineEstimator::Options perception_options(const Scenario& scenario) 
   perception::LineEstimator::Options options;
   options.tape.width_m = scenario.tape.width_m;
   if (scenario.tape_color_hint) options.tape.color_bgr = scenario.tape.color_bgr;
+  options.tracking = scenario.perception_tracking;
+  options.search_every_frames = scenario.perception_search_every_frames;
   return options;
 }
 

@@ -134,6 +134,9 @@ void add_replay_command(CLI::App& app, ReplayArgs& args) {
                   "Tape colour hint B,G,R (default: camera.yaml's, else automatic)");
   sub->add_option("--path-speed", args.path_speed_m_s, "Path speed the controller assumes (m/s)")
       ->check(CLI::Range(0.0, 5.0));
+  sub->add_flag("--no-tracking", args.no_tracking,
+                "Search every whole frame (default: track the line between full searches, "
+                "which is faster and as accurate)");
   sub->add_flag("--no-video", args.no_video, "Skip annotated.avi");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
@@ -146,6 +149,7 @@ int run_replay_command(const ReplayArgs& args) {
   options.controller.kind = args.controller;
   options.path_speed_m_s = args.path_speed_m_s;
   options.perception.branch = perception::parse_branch_choice(args.branch);
+  options.perception.tracking = !args.no_tracking;
   options.perception.tape.width_m =
       args.tape_width_m > 0.0 ? args.tape_width_m : dataset.camera.tape_width_m.value_or(0.025);
   if (!args.tape_color.empty()) {
@@ -242,7 +246,10 @@ int run_replay_command(const ReplayArgs& args) {
   summary["has_ground_truth"] = dataset.has_truth;
   summary["perception_rms_e_d_m"] = rms(err_d);
   summary["perception_rms_e_theta_rad"] = rms(err_theta);
+  summary["frames_tracked"] = result.perception_counts.tracked;
+  summary["frames_searched"] = result.perception_counts.searched;
   summary["timing"] = {{"perceive_ms_mean", mean_ms},
+                       {"perceive_ms_median", percentile(perceive_ms, 0.5)},
                        {"perceive_ms_p99", percentile(perceive_ms, 0.99)},
                        {"wall_s", result.wall_s},
                        {"frames_per_s", result.frames.size() / std::max(1e-9, result.wall_s)}};

@@ -16,6 +16,7 @@ struct ReplayArgs {
   double tape_width_m = 0.0;  // 0: from camera.yaml, else 25 mm
   std::string tape_color;     // "B,G,R"; empty: from camera.yaml, else automatic
   double path_speed_m_s = 0.3;
+  bool no_tracking = false;
   bool no_video = false;
   bool quiet = false;
 };
