@@ -27,15 +27,29 @@ Eigen::Vector3d quadratic_fit(const std::vector<Eigen::Vector2d>& lx, bool with_
     hi = std::max(hi, p.x());
   }
   const double origin = 0.5 * (lo + hi), scale = std::max(1.0, 0.5 * (hi - lo));
-  Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d atx = Eigen::Vector3d::Zero();
+  // Normal equations from the power sums of t = (l - o) / S.
+  double t_power[5] = {0, 0, 0, 0, 0}, y_t_power[3] = {0, 0, 0};
   for (const Eigen::Vector2d& p : lx) {
-    const double t = (p.x() - origin) / scale;
-    const Eigen::Vector3d row(1.0, t, with_bend ? t * t : 0.0);
-    ata += row * row.transpose();
-    atx += row * p.y();
+    const double t = (p.x() - origin) / scale, t2 = t * t;
+    t_power[0] += 1.0;
+    t_power[1] += t;
+    t_power[2] += t2;
+    t_power[3] += t2 * t;
+    t_power[4] += t2 * t2;
+    y_t_power[0] += p.y();
+    y_t_power[1] += p.y() * t;
+    y_t_power[2] += p.y() * t2;
   }
-  if (!with_bend) ata(2, 2) = 1.0;
+  Eigen::Matrix3d ata;
+  ata << t_power[0], t_power[1], t_power[2], t_power[1], t_power[2], t_power[3], t_power[2],
+      t_power[3], t_power[4];
+  Eigen::Vector3d atx(y_t_power[0], y_t_power[1], y_t_power[2]);
+  if (!with_bend) {
+    ata.row(2).setZero();
+    ata.col(2).setZero();
+    ata(2, 2) = 1.0;
+    atx[2] = 0.0;
+  }
   const Eigen::Vector3d c = ata.ldlt().solve(atx);
   // c0 + c1 (l - o) / S + c2 (l - o)^2 / S^2, expanded in l.
   const double s2 = scale * scale;

@@ -59,7 +59,7 @@ class LineEstimator {
     EdgeScanOptions scan;
     BranchChoice branch = BranchChoice::kStraight;
     double max_branch_turn_rad = 1.05;  // sharper branches are taken when reached (60 deg)
-    int track_step = 4;                 // track: scan every track_step-th row or column
+    int track_step = 8;                 // track: scan every track_step-th row or column
     double track_search_m = 0.02;       // track: the tape may move this much (or a width)
     double track_margin_m = 0.002;      // track: band margin around the moved tape (or 0.1 w)
     bool tracking = true;               // TrackingLineEstimator: track between full searches

@@ -37,16 +37,6 @@ BodyTwist start_twist(const Scenario& s) {
   return {s.path_speed_m_s, 0.0, s.path.curvature_at(s.start_s_m) * s.path_speed_m_s};
 }
 
-control::LineTracker make_tracker(const Scenario& s) {
-  control::LineTracker::Options options;
-  options.ts_s = s.controller.ts_s;
-  options.path_speed_m_s = s.path_speed_m_s;
-  options.line_lost_hold_s = s.controller.line_lost_hold_s;
-  options.latency_compensation = s.controller.latency_compensation;
-  return control::LineTracker(make_controller(s.controller), s.vehicle.limits, options,
-                              start_twist(s));
-}
-
 // Ground truth of a pose, keeping the foot point near the previous one.
 class TruthTracker {
  public:
@@ -83,6 +73,16 @@ TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose,
 }
 
 }  // namespace
+
+control::LineTracker make_tracker(const Scenario& s) {
+  control::LineTracker::Options options;
+  options.ts_s = s.controller.ts_s;
+  options.path_speed_m_s = s.path_speed_m_s;
+  options.line_lost_hold_s = s.controller.line_lost_hold_s;
+  options.latency_compensation = s.controller.latency_compensation;
+  return control::LineTracker(make_controller(s.controller), s.vehicle.limits, options,
+                              start_twist(s));
+}
 
 std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config) {
   if (config.kind == "pid") return std::make_unique<control::PidController>(config.pid);

@@ -69,6 +69,8 @@ using FrameSink =
     std::function<void(const FrameRecord& record, const Pose2& pose, const cv::Mat& frame)>;
 
 std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config);
+// The scenario's controller inside a LineTracker (limits, line-loss hold), started at its twist.
+control::LineTracker make_tracker(const Scenario& scenario);
 
 // Deterministic: one frame per control period; the measurement of the frame taken at period k
 // reaches the controller at period k + latency_frames, through the bounded queue.

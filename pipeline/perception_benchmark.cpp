@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/angles.h"
+#include "perception/hough_baseline.h"
 #include "perception/line_estimator.h"
 #include "pipeline/frame_annotation.h"
 #include "pipeline/frame_renderer.h"
@@ -156,6 +157,7 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
     const Draw draw = draw_condition(rng, with_tape, options.seed * 1000 + c);
     const FrameRenderer renderer(draw.camera, draw.scene);
     const perception::LineEstimator estimator(draw.camera, draw.perception);
+    const perception::HoughBaseline baseline(draw.camera, draw.perception.tape.width_m);
     const control::Path& path = draw.scene.tapes.front().path;
     // The longest the tape could be in view: through the image centre along the image's longer
     // extent, about the floor view's diameter in the forward direction.
@@ -179,6 +181,11 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
       BenchmarkFrame b;
       b.perceive_ms =
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const auto t1 = std::chrono::steady_clock::now();
+      const LineMeasurement mb = baseline.estimate(frame, 0.0);
+      b.baseline_ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+      b.baseline_found = mb.line_found;
       b.condition = c;
       b.has_tape = with_tape;
       b.curved = draw.curved;
@@ -192,6 +199,10 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
         if (m.line_found) {
           b.error_e_d_m = m.e_d_m - truth.e_d_m;
           b.error_e_theta_rad = wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad);
+        }
+        if (mb.line_found) {
+          b.baseline_error_e_d_m = mb.e_d_m - truth.e_d_m;
+          b.baseline_error_e_theta_rad = wrap_angle_rad(mb.e_theta_rad - truth.e_theta_rad);
         }
       }
       result.frames.push_back(b);
@@ -214,12 +225,16 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
 
   // Figures: accuracy on frames showing at least half the tape; detection on those; false lines.
   std::vector<double> d_all, t_all, d_straight, t_straight, d_arc, t_arc, times;
+  std::vector<double> baseline_d, baseline_t, baseline_times;
   int qualifying = 0, found = 0, empty = 0, false_lines = 0, partial = 0, partial_found = 0;
+  int baseline_found = 0, baseline_false_lines = 0;
   for (const BenchmarkFrame& b : result.frames) {
     times.push_back(b.perceive_ms);
+    baseline_times.push_back(b.baseline_ms);
     if (!b.has_tape) {
       ++empty;
       false_lines += b.line_found ? 1 : 0;
+      baseline_false_lines += b.baseline_found ? 1 : 0;
       continue;
     }
     if (b.visible_fraction < 0.5) {
@@ -228,6 +243,11 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
       continue;
     }
     ++qualifying;
+    if (b.baseline_found) {
+      ++baseline_found;
+      baseline_d.push_back(b.baseline_error_e_d_m);
+      baseline_t.push_back(b.baseline_error_e_theta_rad);
+    }
     if (!b.line_found) continue;
     ++found;
     d_all.push_back(b.error_e_d_m);
@@ -254,8 +274,15 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
       partial ? static_cast<double>(partial_found) / partial : 0.0;
   j["frames_without_tape"] = empty;
   j["lines_reported_without_tape"] = false_lines;
-  std::sort(times.begin(), times.end());
-  j["perceive_ms_median"] = times.empty() ? 0.0 : times[times.size() / 2];
+  j["perceive_ms_median"] = quantile(times, 0.5);
+  j["baseline_canny_hough"] = {
+      {"found_fraction", qualifying ? static_cast<double>(baseline_found) / qualifying : 0.0},
+      {"rms_e_d_m", rms(baseline_d)},
+      {"rms_e_theta_rad", rms(baseline_t)},
+      {"p95_abs_e_d_m", quantile(baseline_d, 0.95)},
+      {"p95_abs_e_theta_rad", quantile(baseline_t, 0.95)},
+      {"lines_reported_without_tape", baseline_false_lines},
+      {"ms_median", quantile(baseline_times, 0.5)}};
   return result;
 }
 

@@ -29,6 +29,10 @@ struct BenchmarkFrame {
   bool line_found = false;
   double error_e_d_m = 0.0, error_e_theta_rad = 0.0;
   double perceive_ms = 0.0;
+  // The Canny + HoughLinesP baseline (perception::HoughBaseline) on the same frame.
+  bool baseline_found = false;
+  double baseline_error_e_d_m = 0.0, baseline_error_e_theta_rad = 0.0;
+  double baseline_ms = 0.0;
   std::string conditions_text;  // the draw, for a reader of the CSV
 };
 

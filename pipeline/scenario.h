@@ -70,10 +70,10 @@ struct Scenario {
   FloorMarks marks;
   FloorStyle floor;
   ImageEffects effects;
-  bool tape_color_hint = true;  // perception is told the tape colour
+  bool tape_color_hint = true;              // perception is told the tape colour
   bool perception_tracking = true;          // track the line between full-frame searches
   int perception_search_every_frames = 10;  // full-frame search at least this often
-  std::string camera_name;      // where the camera came from
+  std::string camera_name;                  // where the camera came from
   perception::CameraFile camera;
   VehicleConfig vehicle;
   ControllerConfig controller;

@@ -211,8 +211,8 @@ Scenario load_scenario(const ScenarioText& source,
   fx.specular_radius = in.number("image.specular.radius", fx.specular_radius, 0.005, 2.0);
   s.tape_color_hint = in.boolean("perception.use_tape_color_hint", s.tape_color_hint);
   s.perception_tracking = in.boolean("perception.tracking", s.perception_tracking);
-  s.perception_search_every_frames = in.integer(
-      "perception.search_every_frames", s.perception_search_every_frames, 1, 100000);
+  s.perception_search_every_frames =
+      in.integer("perception.search_every_frames", s.perception_search_every_frames, 1, 100000);
 
   s.camera = read_camera(in, source, &s.camera_name);
   if (!s.camera.mount) {

@@ -56,12 +56,15 @@ int run_evaluate(const EvaluateArgs& args) {
     pipeline::OutputFolder folder(args.out_dir);
     std::ofstream csv(folder.file("frames.csv"));
     csv << "condition,has_tape,curved,visible_fraction,line_found,error_e_d_m,error_e_theta_rad,"
-           "perceive_ms,conditions\n"
+           "perceive_ms,baseline_found,baseline_error_e_d_m,baseline_error_e_theta_rad,baseline_ms,"
+           "conditions\n"
         << std::setprecision(9);
     for (const pipeline::BenchmarkFrame& b : result.frames) {
       csv << b.condition << ',' << b.has_tape << ',' << b.curved << ',' << b.visible_fraction << ','
           << b.line_found << ',' << b.error_e_d_m << ',' << b.error_e_theta_rad << ','
-          << b.perceive_ms << ',' << b.conditions_text << '\n';
+          << b.perceive_ms << ',' << b.baseline_found << ',' << b.baseline_error_e_d_m << ','
+          << b.baseline_error_e_theta_rad << ',' << b.baseline_ms << ',' << b.conditions_text
+          << '\n';
     }
     std::ofstream(folder.file("summary.json")) << j.dump(2) << '\n';
     if (!csv) throw InputError(folder.target().string() + ": cannot write the results");
@@ -86,6 +89,14 @@ int run_evaluate(const EvaluateArgs& args) {
       rad_to_deg(j["arcs"]["rms_e_theta_rad"].get<double>()),
       j["lines_reported_without_tape"].get<int>(), j["frames_without_tape"].get<int>(),
       j["perceive_ms_median"].get<double>());
+  const nlohmann::json& base = j["baseline_canny_hough"];
+  std::printf(
+      "baseline Canny+HoughLinesP on the same frames: found %.1f %% | RMS e_d %.3f mm, e_theta "
+      "%.3f deg (p95 %.3f mm, %.3f deg) | without tape: %d lines | %.2f ms per frame\n",
+      100.0 * base["found_fraction"].get<double>(), 1e3 * base["rms_e_d_m"].get<double>(),
+      rad_to_deg(base["rms_e_theta_rad"].get<double>()), 1e3 * base["p95_abs_e_d_m"].get<double>(),
+      rad_to_deg(base["p95_abs_e_theta_rad"].get<double>()),
+      base["lines_reported_without_tape"].get<int>(), base["ms_median"].get<double>());
   return 0;
 }
 

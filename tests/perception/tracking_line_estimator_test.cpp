@@ -1,0 +1,160 @@
+#include "perception/tracking_line_estimator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "common/angles.h"
+#include "pipeline/frame_renderer.h"
+#include "support/test_scenes.h"
+
+namespace agv::perception {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+LineEstimator::Options hinted(const pipeline::Scene& scene) {
+  LineEstimator::Options options;
+  options.tape.width_m = scene.tapes.front().width_m;
+  options.tape.color_bgr = scene.tapes.front().color_bgr;
+  return options;
+}
+
+// A pose near the first tape of the scene: at arc length s, offset e_d to the left and turned
+// by e_theta.
+Pose2 pose_on(const control::Path& path, double s_m, double e_d_m, double e_theta_rad) {
+  const Eigen::Vector2d foot = path.point_at(s_m);
+  const double heading = path.heading_at(s_m);
+  const Eigen::Vector2d p = foot + e_d_m * Eigen::Vector2d(-std::sin(heading), std::cos(heading));
+  return {p.x(), p.y(), wrap_angle_rad(heading + e_theta_rad)};
+}
+
+struct SequenceResult {
+  int frames = 0, found = 0, found_by_full_search = 0;
+  double rms_e_d_m = 0.0, rms_e_theta_rad = 0.0;                          // tracking
+  double full_search_rms_e_d_m = 0.0, full_search_rms_e_theta_rad = 0.0;  // every frame searched
+  TrackingLineEstimator::Counts counts;
+};
+
+// A vehicle driving along the scene's first tape at 0.3 m/s, 10 frames per second, weaving
+// (e_d within 10 mm, e_theta within 4 deg), measured with tracking and with the full search.
+SequenceResult drive(const CameraModel& camera, const pipeline::Scene& scene, double s_start_m,
+                     int frames) {
+  const pipeline::FrameRenderer renderer(camera, scene);
+  const control::Path& path = scene.tapes.front().path;
+  TrackingLineEstimator tracking(camera, hinted(scene));
+  const LineEstimator full_search(camera, hinted(scene));
+  SequenceResult r;
+  double d2 = 0, t2 = 0, fd2 = 0, ft2 = 0;
+  for (int k = 0; k < frames; ++k) {
+    const double s = s_start_m + 0.03 * k;
+    const Pose2 pose =
+        pose_on(path, s, 0.010 * std::sin(0.3 * k), deg_to_rad(4.0) * std::cos(0.2 * k));
+    const control::TrackingError truth =
+        path.tracking_error(pose, path.project(pose.translation(), s, 0.2));
+    const cv::Mat frame = renderer.render(pose, {0.3, 0.0, 0.0}, static_cast<std::uint64_t>(k));
+    const LineMeasurement m = tracking.measure(frame, 0.1 * k);
+    const LineMeasurement full = full_search.estimate(frame, 0.1 * k);
+    ++r.frames;
+    if (m.line_found) {
+      ++r.found;
+      d2 += std::pow(m.e_d_m - truth.e_d_m, 2);
+      t2 += std::pow(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad), 2);
+    }
+    if (full.line_found) {
+      ++r.found_by_full_search;
+      fd2 += std::pow(full.e_d_m - truth.e_d_m, 2);
+      ft2 += std::pow(wrap_angle_rad(full.e_theta_rad - truth.e_theta_rad), 2);
+    }
+  }
+  r.rms_e_d_m = std::sqrt(d2 / std::max(1, r.found));
+  r.rms_e_theta_rad = std::sqrt(t2 / std::max(1, r.found));
+  r.full_search_rms_e_d_m = std::sqrt(fd2 / std::max(1, r.found_by_full_search));
+  r.full_search_rms_e_theta_rad = std::sqrt(ft2 / std::max(1, r.found_by_full_search));
+  r.counts = tracking.counts();
+  return r;
+}
+
+// Tracking must not trade accuracy for speed: on a straight tape and on an arc of 0.6 m radius
+// it meets issue 4's bar (RMS 0.2 mm, 0.1 deg) on clean rendered frames, where the full search
+// meets it too; most frames are tracked (every 10th is a full search by design, and a failed
+// track falls back).
+TEST(TrackingLineEstimator, AsAccurateAsTheFullSearchOnStraightAndCurvedSequences) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  const pipeline::Scene straight = testing::straight_tape_scene();
+  const SequenceResult a = drive(camera, straight, 2.0, 60);
+  EXPECT_EQ(a.found, a.frames);
+  EXPECT_LE(a.rms_e_d_m, 0.0002);
+  EXPECT_LE(rad_to_deg(a.rms_e_theta_rad), 0.1);
+  EXPECT_GE(a.counts.tracked, 45);
+
+  pipeline::Scene arc = testing::straight_tape_scene();
+  arc.tapes[0].path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.6, kPi);
+  const SequenceResult b = drive(camera, arc, 1.3, 40);
+  EXPECT_EQ(b.found, b.frames);
+  EXPECT_EQ(b.found_by_full_search, b.frames);
+  EXPECT_LE(b.rms_e_d_m, 0.0002) << "full search: " << b.full_search_rms_e_d_m;
+  EXPECT_LE(rad_to_deg(b.rms_e_theta_rad), 0.1)
+      << "full search: " << rad_to_deg(b.full_search_rms_e_theta_rad);
+  EXPECT_GE(b.counts.tracked, 25);
+}
+
+// A line that jumps further than the tracking search (45 mm sideways between two frames: a
+// dropped frame, a bump) is found again by the full search, at the right place.
+TEST(TrackingLineEstimator, FallsBackToTheFullSearchWhenTheLineJumps) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  const pipeline::Scene scene = testing::straight_tape_scene();
+  const pipeline::FrameRenderer renderer(camera, scene);
+  TrackingLineEstimator tracking(camera, hinted(scene));
+  for (int k = 0; k < 3; ++k) {
+    ASSERT_TRUE(
+        tracking.measure(renderer.render({1.0 + 0.03 * k, 0.0, 0.0}, {}, k), 0.1 * k).line_found);
+  }
+  ASSERT_EQ(tracking.counts().tracked, 2);
+  const Pose2 jumped{1.09, 0.045, deg_to_rad(2.0)};
+  const LineMeasurement m = tracking.measure(renderer.render(jumped, {}, 3), 0.3);
+  EXPECT_EQ(tracking.counts().track_failed, 1);
+  ASSERT_TRUE(m.line_found);
+  EXPECT_NEAR(m.e_d_m, jumped.y_m, 0.0005);
+  EXPECT_NEAR(m.e_theta_rad, jumped.yaw_rad, deg_to_rad(0.2));
+}
+
+// Leaving the tape (or the tape ending) while tracking gives no line, never the old one.
+TEST(TrackingLineEstimator, ReportsNoLineWhenTheTapeLeavesTheView) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  pipeline::Scene scene = testing::straight_tape_scene();
+  const pipeline::FrameRenderer renderer(camera, scene);
+  TrackingLineEstimator tracking(camera, hinted(scene));
+  for (int k = 0; k < 4; ++k)
+    ASSERT_TRUE(tracking.measure(renderer.render({1.0 + 0.03 * k, 0.0, 0.0}, {}, k), 0).line_found);
+  // The tape ends at x = 8 m; the camera looks 0.3 m ahead of the vehicle.
+  EXPECT_FALSE(tracking.measure(renderer.render({8.5, 0.0, 0.0}, {}, 5), 0).line_found);
+  EXPECT_FALSE(tracking.measure(renderer.render({1.2, 0.5, 0.0}, {}, 6), 0).line_found);
+}
+
+// A second tape crossing the tracked one must not pull the measurement: every line reported
+// while driving through a crossing is the straight tape, within 0.5 mm and 0.3 deg.
+TEST(TrackingLineEstimator, ACrossingTapeDoesNotCaptureTheTrackedLine) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  pipeline::Scene scene = testing::straight_tape_scene();
+  pipeline::TapeStrip crossing = scene.tapes[0];
+  crossing.path = control::Path::starting_at({2.5, -1.0, kPi / 2}).add_line(2.0);
+  scene.tapes.push_back(crossing);
+  const pipeline::FrameRenderer renderer(camera, scene);
+  TrackingLineEstimator tracking(camera, hinted(scene));
+  int found = 0;
+  for (int k = 0; k < 30; ++k) {
+    const Pose2 pose{1.7 + 0.03 * k, 0.004 * std::sin(0.4 * k),
+                     deg_to_rad(2.0 * std::cos(0.3 * k))};
+    const LineMeasurement m = tracking.measure(renderer.render(pose, {0.3, 0.0, 0.0}, k), 0.1 * k);
+    if (!m.line_found) continue;
+    ++found;
+    EXPECT_NEAR(m.e_d_m, pose.y_m, 0.0005) << "frame " << k;
+    EXPECT_NEAR(m.e_theta_rad, pose.yaw_rad, deg_to_rad(0.3)) << "frame " << k;
+  }
+  EXPECT_GE(found, 20);  // the crossing may hide the line in a few frames, not in most
+}
+
+}  // namespace
+}  // namespace agv::perception
