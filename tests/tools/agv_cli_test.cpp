@@ -9,6 +9,9 @@
 #include <fstream>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -125,3 +128,100 @@ TEST_F(AgvCli, BenchPrintsTheDesignKeys) {
 }
 
 }  // namespace
+
+namespace {
+
+// The manifest of a dataset as lines, to edit in a test.
+std::vector<std::string> read_lines(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+void write_lines(const fs::path& file, const std::vector<std::string>& lines) {
+  std::ofstream out(file);
+  for (const std::string& line : lines) out << line << '\n';
+}
+
+}  // namespace
+
+// Record a short run, replay it: the replay's accuracy against the recorded ground truth, and
+// the files DESIGN.md names.
+TEST_F(AgvCli, RecordThenReplayRoundTrip) {
+  const Result rec =
+      run("record --quiet --set duration_s=0.5 --format png --out " + path("dataset"));
+  ASSERT_EQ(rec.exit_code, 0) << rec.output;
+  for (const char* name : {"manifest.csv", "camera.yaml", "frames/000000.png", "frames/000005.png"})
+    EXPECT_TRUE(fs::exists(dir_ / "dataset" / name)) << name;
+  const Result rep =
+      run("replay --quiet --no-video " + path("dataset") + " --out " + path("replay"));
+  ASSERT_EQ(rep.exit_code, 0) << rep.output;
+  for (const char* name : {"measurements.csv", "summary.json", "errors.png", "strip.png"})
+    EXPECT_TRUE(fs::exists(dir_ / "replay" / name)) << name;
+  std::ifstream in(dir_ / "replay" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["frames"].get<int>(), 6);
+  EXPECT_EQ(s["frames_lost"].get<int>(), 0);
+  // Lossless frames of the default scenario: issue 3's bar (0.5 mm, 0.2 deg) with room to spare.
+  EXPECT_LE(s["perception_rms_e_d_m"].get<double>(), 0.0005);
+  EXPECT_LE(s["perception_rms_e_theta_rad"].get<double>(), 0.2 * 3.14159265 / 180.0);
+  const std::vector<std::string> rows = read_lines(dir_ / "replay" / "measurements.csv");
+  ASSERT_EQ(rows.size(), 7u);
+  EXPECT_EQ(rows[0].rfind("index,t_s,line_found,e_theta_rad,e_d_m,curvature_1_m,confidence", 0), 0u)
+      << rows[0];
+}
+
+// Each kind of bad dataset: exit 2, a message naming the file (and row), no output folder; with
+// --skip-bad-frames the bad frames are counted and the rest replayed.
+TEST_F(AgvCli, ReplayRejectsBadDatasetsByName) {
+  ASSERT_EQ(run("record --quiet --set duration_s=0.5 --format png --out " + path("good")).exit_code,
+            0);
+  auto copy = [&](const std::string& name) {
+    fs::copy(dir_ / "good", dir_ / name, fs::copy_options::recursive);
+    return dir_ / name;
+  };
+  fs::remove(copy("no_manifest") / "manifest.csv");
+  fs::remove(copy("missing_frame") / "frames" / "000003.png");
+  std::ofstream(copy("corrupt_frame") / "frames" / "000002.png") << "not a png at all";
+  // A frame of another size than camera.yaml's (320x240 instead of 640x480).
+  cv::imwrite((copy("wrong_size") / "frames" / "000001.png").string(),
+              cv::Mat(240, 320, CV_8UC3, cv::Scalar(128, 128, 128)));
+  {
+    std::vector<std::string> lines = read_lines(copy("out_of_order") / "manifest.csv");
+    std::swap(lines[2], lines[3]);
+    write_lines(dir_ / "out_of_order" / "manifest.csv", lines);
+  }
+  {
+    std::vector<std::string> lines = read_lines(copy("malformed_row") / "manifest.csv");
+    lines[4] = "3,0.3,frames/000003.png,abc,0,0,0,0";
+    write_lines(dir_ / "malformed_row" / "manifest.csv", lines);
+  }
+  std::ofstream(path("a_file")) << "not a dataset";
+  const std::pair<std::string, std::string> cases[] = {
+      {"no_manifest", "manifest.csv"},
+      {"missing_frame", "000003.png"},
+      {"corrupt_frame", "000002.png"},
+      {"wrong_size", "000001.png"},
+      {"out_of_order", "line 4"},
+      {"malformed_row", "line 5"},
+      {"a_file", "a_file"},
+      {"no_such_folder", "no_such_folder"},
+  };
+  for (const auto& [name, expected] : cases) {
+    const Result r = run("replay --quiet --no-video " + path(name) + " --out " + path("out"));
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << name << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << name;
+  }
+  for (const char* name : {"missing_frame", "corrupt_frame", "wrong_size"}) {
+    const Result r = run("replay --quiet --no-video --skip-bad-frames " + path(name) + " --out " +
+                         path(std::string("skip_") + name));
+    ASSERT_EQ(r.exit_code, 0) << name << "\n" << r.output;
+    std::ifstream in(dir_ / (std::string("skip_") + name) / "summary.json");
+    const nlohmann::json s = nlohmann::json::parse(in);
+    EXPECT_EQ(s["frames_bad"].get<int>(), 1) << name;
+    EXPECT_EQ(s["frames"].get<int>(), 6) << name;
+    EXPECT_EQ(s["frames_lost"].get<int>(), 0) << name;
+  }
+}
