@@ -152,15 +152,7 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
     const bool rows_first = std::abs(region.direction.y) >= std::abs(region.direction.x);
     for (bool along_rows : {true, false}) {
       if (band && along_rows != rows_first) continue;
-      const std::vector<EdgePair> edges =
-          scan_tape_edges(frame, *axis, coarse, region, along_rows, scan);
-      for (const EdgePair& pair : edges) {
-        const auto a = floor_map_.at(pair.first_px.x, pair.first_px.y);
-        const auto b = floor_map_.at(pair.second_px.x, pair.second_px.y);
-        if (!a || !b) continue;
-        d.edges.push_back(pair);
-        d.chords.push_back({*a, *b});
-      }
+      add_chords(scan_tape_edges(frame, *axis, coarse, region, along_rows, scan), &d);
     }
   }
 
@@ -199,13 +191,7 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
   d.floor_noise = previous.floor_noise;
   if (stats.covered > std::max(2, stats.windows / 20))
     return not_found(stamp_s, "another tape crosses the tracked band", &d);
-  for (const EdgePair& pair : edges) {
-    const auto a = floor_map_.at(pair.first_px.x, pair.first_px.y);
-    const auto b = floor_map_.at(pair.second_px.x, pair.second_px.y);
-    if (!a || !b) continue;
-    d.edges.push_back(pair);
-    d.chords.push_back({*a, *b});
-  }
+  add_chords(edges, &d);
   LineSetOptions lines = options_.lines;
   lines.scan_spacing_m = footprint_m * band->step;
   std::vector<std::string> rejections;
@@ -215,6 +201,16 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
   if (!line) return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
   d.lines.push_back(std::move(*line));
   return measurement_of(d, frame, stamp_s);
+}
+
+void LineEstimator::add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const {
+  for (const EdgePair& pair : edges) {
+    const auto a = floor_map_.at(pair.first_px.x, pair.first_px.y);
+    const auto b = floor_map_.at(pair.second_px.x, pair.second_px.y);
+    if (!a || !b) continue;
+    d->edges.push_back(pair);
+    d->chords.push_back({*a, *b});
+  }
 }
 
 std::string LineEstimator::frame_problem(const cv::Mat& frame) const {

@@ -89,6 +89,8 @@ class LineEstimator {
  private:
   // The reason a frame cannot be measured (size, type), or empty.
   std::string frame_problem(const cv::Mat& frame) const;
+  // Appends the edge pairs whose ends map to the floor, with their floor chords.
+  void add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const;
   // From the lines found (d.lines not empty): junction, branch choice and the measurement.
   LineMeasurement measurement_of(LineDetection& d, const cv::Mat& frame, double stamp_s) const;
 

@@ -69,6 +69,21 @@ struct ChordSet {
   std::vector<Eigen::Vector2d> centres, firsts, seconds;
 };
 
+// The side offsets of each chord's edges for an edge fit: half_width_m on the side of `curve`
+// where the edge lies.
+void side_offsets(const ChordSet& c, const CurveModel& curve, double half_width_m,
+                  std::vector<double>* first_offsets, std::vector<double>* second_offsets) {
+  const CurveModel::Prepared prepared = curve.prepared();
+  first_offsets->resize(c.firsts.size());
+  second_offsets->resize(c.seconds.size());
+  for (size_t i = 0; i < c.firsts.size(); ++i) {
+    (*first_offsets)[i] =
+        prepared.signed_distance(c.firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
+    (*second_offsets)[i] =
+        prepared.signed_distance(c.seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
+  }
+}
+
 // A line's model from the chords marked in `available`: a first fit on the midpoints finds the
 // candidate and the tape's width; a fit on the edges (each on its side of the curve, at half
 // the width) decides which chords crossed one clean piece of tape (both edges on it); the model
@@ -95,14 +110,8 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   // The edges lie at half the tape's measured width (real tape differs from its nominal width
   // by millimetres; the configured width is checked afterwards).
   const double half_width_m = 0.5 * quantile(widths, 0.5);
-  std::vector<double> first_offsets(chords.size()), second_offsets(chords.size());
-  const CurveModel::Prepared first_curve = first.model.prepared();
-  for (size_t i = 0; i < chords.size(); ++i) {
-    first_offsets[i] =
-        first_curve.signed_distance(c.firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
-    second_offsets[i] =
-        first_curve.signed_distance(c.seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
-  }
+  std::vector<double> first_offsets, second_offsets;
+  side_offsets(c, first.model, half_width_m, &first_offsets, &second_offsets);
   CurveFitOptions edge_options = options.fit;
   edge_options.forward = first.model.tangent();
   const EdgeObservations edges{&c.firsts, &c.seconds, &first_offsets, &second_offsets};
@@ -367,15 +376,8 @@ std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const C
   initial.e_d_m -= ab[0];
   initial.heading_rad += ab[1];
   // Edges at half the prior's width, each on its side of the moved prior.
-  const double half_width_m = 0.5 * prior_width_m;
-  const CurveModel::Prepared initial_curve = initial.prepared();
-  std::vector<double> first_offsets(chords.size()), second_offsets(chords.size());
-  for (size_t i = 0; i < chords.size(); ++i) {
-    first_offsets[i] =
-        initial_curve.signed_distance(c.firsts[i]) >= 0.0 ? half_width_m : -half_width_m;
-    second_offsets[i] =
-        initial_curve.signed_distance(c.seconds[i]) >= 0.0 ? half_width_m : -half_width_m;
-  }
+  std::vector<double> first_offsets, second_offsets;
+  side_offsets(c, initial, 0.5 * prior_width_m, &first_offsets, &second_offsets);
   CurveFitOptions fit_options = options.fit;
   fit_options.forward = initial.tangent();
   const EdgeObservations edges{&c.firsts, &c.seconds, &first_offsets, &second_offsets};
