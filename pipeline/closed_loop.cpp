@@ -115,6 +115,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
 
     Clock::time_point t0 = Clock::now();
     renderer.render_into(pose, plant.twist(), static_cast<std::uint64_t>(k), &frame);
+    apply_frame_faults(s.frame_faults, t, static_cast<std::uint64_t>(k), &frame);
     Clock::time_point t1 = Clock::now();
     StampedMeasurement stamped{estimator.measure(frame, t), truth, static_cast<std::uint64_t>(k)};
     Clock::time_point t2 = Clock::now();
@@ -193,6 +194,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
       const control::TrackingError truth = truth_of(pose);
       Clock::time_point t0 = Clock::now();
       renderer.render_into(pose, twist, i, &frame);
+      apply_frame_faults(s.frame_faults, t, i, &frame);
       Clock::time_point t1 = Clock::now();
       StampedMeasurement stamped{estimator.measure(frame, t), truth, i};
       Clock::time_point t2 = Clock::now();

@@ -11,6 +11,7 @@
 #include "perception/camera_file.h"
 #include "perception/line_estimator.h"
 #include "pipeline/bounded_queue.h"
+#include "pipeline/frame_faults.h"
 #include "pipeline/scene.h"
 
 namespace agv::pipeline {
@@ -70,6 +71,7 @@ struct Scenario {
   FloorMarks marks;
   FloorStyle floor;
   ImageEffects effects;
+  std::vector<FrameFault> frame_faults;  // spoiled frames (line-loss tests)
   bool tape_color_hint = true;              // perception is told the tape colour
   bool perception_tracking = true;          // track the line between full-frame searches
   int perception_search_every_frames = 10;  // full-frame search at least this often

@@ -209,6 +209,17 @@ Scenario load_scenario(const ScenarioText& source,
   fx.specular_x = in.number("image.specular.x", fx.specular_x, -0.5, 1.5);
   fx.specular_y = in.number("image.specular.y", fx.specular_y, -0.5, 1.5);
   fx.specular_radius = in.number("image.specular.radius", fx.specular_radius, 0.005, 2.0);
+  for (size_t i = 0; i < in.sequence_size("frame_faults"); ++i) {
+    const std::string key = "frame_faults." + std::to_string(i);
+    FrameFault fault;
+    const std::string kind = in.choice(key + ".kind", "covered", {"covered", "flash"});
+    fault.kind = parse_frame_fault_kind(kind);
+    fault.from_s = in.number(key + ".from_s", 0.0, 0.0, 1e6);
+    fault.to_s = in.number(key + ".to_s", 0.0, 0.0, 1e6);
+    if (fault.to_s <= fault.from_s)
+      throw InputError(in.origin(key) + ": key '" + key + "': expected from_s < to_s");
+    s.frame_faults.push_back(fault);
+  }
   s.tape_color_hint = in.boolean("perception.use_tape_color_hint", s.tape_color_hint);
   s.perception_tracking = in.boolean("perception.tracking", s.perception_tracking);
   s.perception_search_every_frames =
