@@ -1,0 +1,227 @@
+// Seeded random-mutation fuzzing (issue 8) of the inputs that come from outside: scenario YAML,
+// camera YAML, manifest CSV and frame files. Each input from tests/fuzz/corpus is mutated many
+// times (bit flips, cut, repeated and truncated ranges, numbers replaced by NaN, Inf, negative,
+// huge or non-numeric text, YAML/CSV syntax characters inserted) and fed to the loader. Contract:
+// it either accepts the input or throws InputError; any other exception fails the test (and a
+// crash or sanitizer report fails the run). The input that broke it is written next to the
+// test's working directory as fuzz_failure_<target>.bin to reproduce.
+//
+// Budget: AGV_FUZZ_ITERATIONS mutations per corpus file (default 150), fixed seeds: the same
+// inputs on every run.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "common/input_error.h"
+#include "perception/camera_file.h"
+#include "pipeline/dataset.h"
+#include "pipeline/replay.h"
+#include "pipeline/scenario_loader.h"
+#include "tools/embedded_files.h"
+
+namespace agv {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kCorpus = fs::path(AGV_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
+
+int iterations() {
+  const char* text = std::getenv("AGV_FUZZ_ITERATIONS");
+  return text ? std::max(1, std::atoi(text)) : 150;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+void write_file(const fs::path& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary);
+  out << bytes;
+}
+
+// One random edit of the input.
+std::string mutate(std::string s, std::mt19937_64& rng) {
+  auto pick = [&](size_t n) { return n == 0 ? size_t{0} : static_cast<size_t>(rng() % n); };
+  static const std::vector<std::string> numbers = {
+      "nan", ".nan", "inf",   "-inf",   "-1",
+      "0",   "-0",   "1e308", "-1e308", "1e-320",
+      "abc", "",     "[]",    "{}",     "9999999999999999999999"};
+  static const std::vector<std::string> syntax = {
+      ":",  "[",        "]", "{",  "}",    "\n", "- ",          "\"",    "'", "&a",
+      "*a", "!!binary", ",", "\t", "\r\n", "#",  "%YAML:1.0\n", "---\n", "\0"};
+  switch (rng() % 6) {
+    case 0:  // flip bits of a few bytes
+      for (int k = 0; k < 1 + static_cast<int>(rng() % 4) && !s.empty(); ++k)
+        s[pick(s.size())] ^= static_cast<char>(1u << (rng() % 8));
+      break;
+    case 1: {  // cut a range
+      const size_t at = pick(s.size()), n = pick(std::min<size_t>(64, s.size() - at) + 1);
+      s.erase(at, n);
+      break;
+    }
+    case 2: {  // repeat a range
+      const size_t at = pick(s.size()), n = pick(std::min<size_t>(64, s.size() - at) + 1);
+      s.insert(at, s.substr(at, n));
+      break;
+    }
+    case 3:  // truncate
+      s.resize(pick(s.size() + 1));
+      break;
+    case 4: {  // replace a number by a bad one
+      std::vector<size_t> starts;
+      for (size_t i = 0; i < s.size(); ++i) {
+        const bool digit = (s[i] >= '0' && s[i] <= '9');
+        if (digit && (i == 0 || !((s[i - 1] >= '0' && s[i - 1] <= '9') || s[i - 1] == '.')))
+          starts.push_back(i);
+      }
+      if (starts.empty()) break;
+      const size_t at = starts[pick(starts.size())];
+      size_t end = at;
+      while (end < s.size() &&
+             ((s[end] >= '0' && s[end] <= '9') || s[end] == '.' || s[end] == 'e' || s[end] == '-'))
+        ++end;
+      s.replace(at, end - at, numbers[pick(numbers.size())]);
+      break;
+    }
+    default:  // insert syntax
+      s.insert(pick(s.size() + 1), syntax[pick(syntax.size())]);
+      break;
+  }
+  return s;
+}
+
+// Runs `load` on `iterations()` mutations of each corpus file of `target`; fails on anything
+// but success or InputError.
+template <typename Load>
+void fuzz(const std::string& target, Load load) {
+  std::vector<fs::path> seeds;
+  for (const auto& entry : fs::directory_iterator(kCorpus / target)) seeds.push_back(entry.path());
+  std::sort(seeds.begin(), seeds.end());
+  ASSERT_FALSE(seeds.empty()) << target;
+  int accepted = 0, rejected = 0;
+  for (const fs::path& seed : seeds) {
+    const std::string original = read_file(seed);
+    // The unmutated seed must load: otherwise the fuzzing only ever tests the rejection path.
+    ASSERT_NO_THROW(load(original, seed)) << seed;
+    std::mt19937_64 rng(std::hash<std::string>{}(seed.filename().string()));
+    for (int i = 0; i < iterations(); ++i) {
+      std::string input = original;
+      const int edits = 1 + static_cast<int>(rng() % 3);
+      for (int e = 0; e < edits; ++e) input = mutate(input, rng);
+      try {
+        load(input, seed);
+        ++accepted;
+      } catch (const InputError&) {
+        ++rejected;
+      } catch (const std::exception& e) {
+        write_file("fuzz_failure_" + target + ".bin", input);
+        FAIL() << target << " (" << seed.filename() << ", mutation " << i
+               << "): not an InputError: " << e.what();
+      }
+    }
+  }
+  std::printf("%s: %d mutated inputs accepted, %d rejected with InputError\n", target.c_str(),
+              accepted, rejected);
+  EXPECT_GT(rejected, 0) << "the mutations never reached the checks";
+}
+
+class MutationFuzz : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("agv_fuzz_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(MutationFuzz, ScenarioYaml) {
+  fuzz("scenario", [](const std::string& text, const fs::path& seed) {
+    const pipeline::Scenario s =
+        pipeline::load_scenario({text, seed.filename().string(), "", tools::embedded_files()}, {});
+    // Accepted means usable: the numbers the loop divides by or steps with are sane.
+    if (!(s.duration_s > 0.0 && s.controller.ts_s > 0.0 && std::isfinite(s.path_speed_m_s)))
+      throw std::logic_error("accepted a scenario with unusable timing");
+  });
+}
+
+TEST_F(MutationFuzz, CameraYaml) {
+  fuzz("camera", [](const std::string& text, const fs::path& seed) {
+    const perception::CameraFile camera =
+        perception::parse_camera_text(text, seed.filename().string());
+    if (camera.mount) (void)perception::camera_model_of(camera, seed.filename().string());
+  });
+}
+
+TEST_F(MutationFuzz, ManifestCsv) {
+  const fs::path dataset = dir_ / "dataset";
+  fs::create_directories(dataset / "frames");
+  fs::copy_file(fs::path(AGV_SOURCE_DIR) / "datasets" / "blue_concrete_straight" / "camera.yaml",
+                dataset / "camera.yaml");
+  for (int i = 0; i < 6; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof(name), "frames/%06d.jpg", i);
+    fs::copy_file(kCorpus / "frame" / "tape.jpg", dataset / name);
+  }
+  fuzz("manifest", [&](const std::string& text, const fs::path&) {
+    write_file(dataset / "manifest.csv", text);
+    (void)pipeline::open_dataset(dataset.string(), "", 0.0, false);
+  });
+}
+
+// The frame path of replay: a dataset of one frame whose file is mutated (JPEG, and PNG made
+// from it), read, checked and measured. A corrupt JPEG often still decodes (into garbage
+// blocks): then perception must measure it without failing.
+TEST_F(MutationFuzz, FrameFiles) {
+  const fs::path dataset = dir_ / "frames_dataset";
+  fs::create_directories(dataset / "frames");
+  fs::copy_file(fs::path(AGV_SOURCE_DIR) / "datasets" / "blue_concrete_straight" / "camera.yaml",
+                dataset / "camera.yaml");
+  // A PNG seed beside the JPEG one, made here (the corpus keeps only the small JPEG).
+  const fs::path png_seed = dir_ / "png_seed";
+  fs::create_directories(png_seed);
+  cv::imwrite((png_seed / "tape.png").string(),
+              cv::imread((kCorpus / "frame" / "tape.jpg").string()));
+  for (const fs::path& seed : {kCorpus / "frame" / "tape.jpg", png_seed / "tape.png"}) {
+    const std::string extension = seed.extension().string();
+    write_file(dataset / "manifest.csv", "index,t_s,file\n0,0.0,frames/000000" + extension + "\n");
+    const std::string original = read_file(seed);
+    std::mt19937_64 rng(extension.size() + original.size());
+    // Each run builds replay's floor map (~0.3 s): a fifth of the budget.
+    const int runs = std::max(2, iterations() / 5);
+    int rejected = 0;
+    for (int i = 0; i < runs; ++i) {
+      write_file(dataset / "frames" / ("000000" + extension),
+                 i == 0 ? original : mutate(original, rng));
+      try {
+        const pipeline::Dataset d = pipeline::open_dataset(dataset.string(), "", 0.0, false);
+        pipeline::ReplayOptions options;
+        options.perception.tape.width_m = 0.025;
+        (void)pipeline::run_replay(d, options, {}, {});
+      } catch (const InputError&) {
+        ++rejected;
+      } catch (const std::exception& e) {
+        write_file("fuzz_failure_frame" + extension,
+                   read_file(dataset / "frames" / ("000000" + extension)));
+        FAIL() << "frame" << extension << " mutation " << i << ": not an InputError: " << e.what();
+      }
+    }
+    std::printf("frame%s: %d of %d mutated files rejected with InputError\n", extension.c_str(),
+                rejected, runs);
+  }
+}
+
+}  // namespace
+}  // namespace agv
