@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Set-up, build and run, idempotent, on Debian 12 (root, or a user with sudo).
 #   tools/setup.sh simulate [agv simulate options]   build (Release) and run the default scenario
-#   tools/setup.sh test                              build (Release) and run every test with ctest
+#   tools/setup.sh test        build with AddressSanitizer + UndefinedBehaviorSanitizer and run every
+#                              test; build with ThreadSanitizer and run the threaded tests (CI)
+#   tools/setup.sh test-plain  build (Release) and run every test (quicker, no sanitizers)
 #   tools/setup.sh build                             build only
 # Environment: BUILD_DIR (default build), JOBS (default: all cores).
 set -euo pipefail
@@ -31,12 +33,35 @@ fi
 
 build_dir="${BUILD_DIR:-build}"
 jobs="${JOBS:-$(nproc)}"
-cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
-cmake --build "$build_dir" --parallel "$jobs"
+
+# A sanitizer build: optimised (-O1) but with assertions on, no debug info (faster to link).
+sanitized_build() {  # dir sanitizers [target]
+  cmake -S . -B "$1" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 \
+    -DAGV_SANITIZE="$2" > /dev/null
+  cmake --build "$1" --parallel "$jobs" ${3:+--target "$3"}
+}
+
+case "$mode" in
+  simulate | build | test-plain)
+    cmake -S . -B "$build_dir" -G Ninja -DCMAKE_BUILD_TYPE=Release > /dev/null
+    cmake --build "$build_dir" --parallel "$jobs"
+    ;;
+esac
 
 case "$mode" in
   simulate) exec "$build_dir/bin/agv" simulate "$@" ;;
-  test) cd "$build_dir" && exec ctest --output-on-failure --parallel "$jobs" "$@" ;;
+  test-plain) cd "$build_dir" && exec ctest --output-on-failure --parallel "$jobs" "$@" ;;
+  test)
+    echo "setup: AddressSanitizer + UndefinedBehaviorSanitizer build, all tests"
+    sanitized_build build-asan address,undefined
+    (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+      UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+      ctest --output-on-failure --parallel "$jobs" "$@")
+    echo "setup: ThreadSanitizer build, threaded tests (queue, closed loop)"
+    sanitized_build build-tsan thread pipeline_tests
+    cd build-tsan && TSAN_OPTIONS="suppressions=$PWD/../tests/tsan.supp halt_on_error=1" \
+      exec ctest --output-on-failure --parallel "$jobs" -R "^(BoundedQueue|ClosedLoop|Watchdog)\\." "$@"
+    ;;
   build) ;;
-  *) echo "setup: unknown mode '$mode' (simulate | test | build)" >&2; exit 2 ;;
+  *) echo "setup: unknown mode '$mode' (simulate | test | test-plain | build)" >&2; exit 2 ;;
 esac
