@@ -25,20 +25,25 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
   if (newest) {
     line_lost_ = !newest->line_found;
     if (newest->line_found) last_good_ = newest;
+    last_arrival_s_ = now_s;
   }
 
   TrackerOutput out;
   if (line_lost_) out.flags |= kLineLost;
+  if (!newest) out.flags |= kNoMeasurements;
   BodyTwist desired;
   // Times are sums of periods: a nanosecond of slack keeps rounding from ending the hold early.
   constexpr double kTimeSlack_s = 1e-9;
+  const bool arriving =
+      last_arrival_s_ && now_s - *last_arrival_s_ <= options_.line_lost_hold_s + kTimeSlack_s;
   const bool recent_good =
-      last_good_ &&
+      last_good_ && arriving &&
       (!line_lost_ || now_s - last_good_->stamp_s <= options_.line_lost_hold_s + kTimeSlack_s);
   if (recent_good) {
     if (stopped_tracking_) controller_->reset();
     stopped_tracking_ = false;
-    if (line_lost_) out.flags |= kHolding;
+    const bool late = now_s - *last_arrival_s_ > options_.ts_s + kTimeSlack_s;
+    if (line_lost_ || late) out.flags |= kHolding;
     TrackingEstimate estimate{last_good_->e_theta_rad, last_good_->e_d_m, last_good_->curvature_1_m,
                               now_s - last_good_->stamp_s};
     if (options_.latency_compensation) {

@@ -18,6 +18,7 @@ enum TrackerFlag : std::uint32_t {
   kNoFeasibleHorizon = 1u << 3,  // the controller found no N within the limits
   kSaturated = 1u << 4,          // the vehicle limits changed the controller's command
   kNoMeasurementYet = 1u << 5,   // nothing measured since start: the last command is kept
+  kNoMeasurements = 1u << 6,     // no measurement arrived this period (camera late or stalled)
 };
 
 struct TrackerOutput {
@@ -30,7 +31,9 @@ struct TrackerOutput {
 
 // Runs a PathController once per period on the newest measurement and makes every command safe:
 // a lost line is tracked on the last good estimate for `line_lost_hold_s`, then the vehicle is
-// braked to a stop within its acceleration limit and waits until the line is seen again. With
+// braked to a stop within its acceleration limit and waits until the line is seen again. The
+// same holds when measurements stop arriving at all (a stalled camera or perception): after
+// `line_lost_hold_s` without any measurement the vehicle stops. With
 // latency compensation on, the error is predicted from the frame's time to now with the
 // commands already sent (as Nav2 MPPI's model delay and Autoware MPC's input delay do).
 class LineTracker {
@@ -61,6 +64,7 @@ class LineTracker {
   bool line_lost_ = false;
   bool stopped_tracking_ = false;
   std::optional<double> first_step_s_;
+  std::optional<double> last_arrival_s_;  // when the newest measurement (found or not) arrived
 };
 
 }  // namespace agv::control

@@ -175,15 +175,32 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   std::atomic<bool> stop{false};
   RunResult result;
   std::mutex frames_mutex;
+  enum Watched { kCameraThread = 0, kControlThread = 1 };
+  // Each thread waits up to its own period between beats: the timeout is at least two of them.
+  Watchdog watchdog({"camera", "control"},
+                    std::max(s.loop.watchdog_timeout_s, 2.0 * std::max(frame_period_s, ts)),
+                    wall_start, s.loop.time_scale);
+  // Injected hangs (tests): each thread hangs once at each of its hang times.
+  auto hang_if_due = [&](const std::string& thread, double t, std::vector<bool>* done) {
+    for (size_t h = 0; h < s.loop.hangs.size(); ++h) {
+      const LoopConfig::Hang& hang = s.loop.hangs[h];
+      if (hang.thread != thread || (*done)[h] || t < hang.at_s) continue;
+      (*done)[h] = true;
+      std::this_thread::sleep_for(std::chrono::duration<double>(hang.for_s / s.loop.time_scale));
+    }
+  };
 
   std::thread camera_thread([&] {
     TruthTracker truth_of(s.path, s.start_s_m);
     std::deque<StampedMeasurement> in_flight;
+    std::vector<bool> hung(s.loop.hangs.size(), false);
     cv::Mat frame;
     for (std::uint64_t i = 0; !stop.load(); ++i) {
       const double t = i * frame_period_s;
       if (t > s.duration_s + s.latency_frames * ts) break;
       std::this_thread::sleep_until(wall_time_of(t));
+      hang_if_due("camera", t, &hung);
+      watchdog.beat(kCameraThread);
       Pose2 pose;
       BodyTwist twist;
       {
@@ -214,6 +231,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
         in_flight.pop_front();
       }
     }
+    watchdog.finished(kCameraThread);
   });
 
   control::LineTracker tracker = make_tracker(s);
@@ -221,9 +239,12 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   TruthTracker truth_of(s.path, s.start_s_m);
   BodyTwist previous_command = start_twist(s);
   std::optional<StampedMeasurement> newest;
+  std::vector<bool> hung(s.loop.hangs.size(), false);
   for (int k = 0; k < periods; ++k) {
     const double t = k * ts;
     std::this_thread::sleep_until(wall_time_of(t));
+    hang_if_due("control", t, &hung);
+    watchdog.beat(kControlThread);
     result.max_tick_lateness_s =
         std::max(result.max_tick_lateness_s, seconds_since(wall_start) - t / s.loop.time_scale);
     Pose2 pose;
@@ -249,9 +270,12 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
     if (progress && (k % 10 == 0 || k + 1 == periods))
       progress(static_cast<double>(k + 1) / periods);
   }
+  watchdog.finished(kControlThread);
   stop.store(true);
   queue.close();
   camera_thread.join();
+  watchdog.stop();
+  result.stalls = watchdog.stalls();
   result.queue = queue.stats();
   result.wall_s = seconds_since(wall_start) + setup_wall_s;
   result.setup_wall_s = setup_wall_s;

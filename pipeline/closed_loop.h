@@ -13,6 +13,7 @@
 #include "control/mecanum_kinematics.h"
 #include "pipeline/bounded_queue.h"
 #include "pipeline/scenario.h"
+#include "pipeline/watchdog.h"
 
 namespace agv::pipeline {
 
@@ -57,8 +58,9 @@ struct RunResult {
   QueueStats queue;
   StageTimes total_times;  // summed over the run, seconds (lockstep; threaded: per thread)
   double wall_s = 0.0;
-  double setup_wall_s = 0.0;         // of wall_s: building renderer, floor maps and estimator
-  double max_tick_lateness_s = 0.0;  // threaded: how late the control thread ran at worst
+  double setup_wall_s = 0.0;          // of wall_s: building renderer, floor maps and estimator
+  double max_tick_lateness_s = 0.0;   // threaded: how late the control thread ran at worst
+  std::vector<WatchdogStall> stalls;  // threaded: threads the watchdog found silent
 };
 
 // Reports progress as a fraction in [0, 1]; may be empty.

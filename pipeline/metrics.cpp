@@ -161,6 +161,12 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["queue"] = {{"pushed", run.queue.pushed},     {"popped", run.queue.popped},
                 {"dropped", run.queue.dropped},   {"superseded", run.queue.superseded},
                 {"rejected", run.queue.rejected}, {"max_depth", run.queue.max_depth}};
+  j["watchdog_stalls"] = nlohmann::json::array();
+  for (const WatchdogStall& stall : run.stalls) {
+    j["watchdog_stalls"].push_back({{"thread", stall.thread},
+                                    {"last_seen_s", stall.last_seen_s},
+                                    {"silent_for_s", stall.silent_for_s}});
+  }
   const double frames = std::max(1, m.frames);
   const double periods = std::max<size_t>(1, run.rows.size());
   j["timing"] = {{"wall_s", run.wall_s},

@@ -50,8 +50,16 @@ struct LoopConfig {
   std::string mode = "lockstep";  // lockstep | threaded
   std::size_t queue_capacity = 4;
   QueuePolicy queue_policy = QueuePolicy::kDropOldest;
-  double time_scale = 1.0;  // threaded: simulated seconds per wall-clock second
-  double camera_fps = 0.0;  // threaded: frames per second (0: one frame per period)
+  double time_scale = 1.0;          // threaded: simulated seconds per wall-clock second
+  double camera_fps = 0.0;          // threaded: frames per second (0: one frame per period)
+  double watchdog_timeout_s = 0.5;  // threaded: a thread silent this long is reported
+  // Threaded, for tests of the watchdog: the named thread ("camera" or "control") hangs for
+  // for_s once its clock reaches at_s.
+  struct Hang {
+    std::string thread;
+    double at_s = 0.0, for_s = 0.0;
+  };
+  std::vector<Hang> hangs;
 };
 
 // Everything one simulated run needs, read from a scenario file (see the default scenario,
@@ -71,7 +79,7 @@ struct Scenario {
   FloorMarks marks;
   FloorStyle floor;
   ImageEffects effects;
-  std::vector<FrameFault> frame_faults;  // spoiled frames (line-loss tests)
+  std::vector<FrameFault> frame_faults;     // spoiled frames (line-loss tests)
   bool tape_color_hint = true;              // perception is told the tape colour
   bool perception_tracking = true;          // track the line between full-frame searches
   int perception_search_every_frames = 10;  // full-frame search at least this often

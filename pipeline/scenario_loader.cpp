@@ -293,6 +293,15 @@ Scenario load_scenario(const ScenarioText& source,
           : QueuePolicy::kDropOldest;
   loop.time_scale = in.positive("loop.time_scale", loop.time_scale, 1000.0);
   loop.camera_fps = in.number("loop.camera_fps", loop.camera_fps, 0.0, 10000.0);
+  loop.watchdog_timeout_s = in.positive("loop.watchdog_timeout_s", loop.watchdog_timeout_s, 3600.0);
+  for (size_t i = 0; i < in.sequence_size("loop.hangs"); ++i) {
+    const std::string key = "loop.hangs." + std::to_string(i);
+    LoopConfig::Hang hang;
+    hang.thread = in.choice(key + ".thread", "camera", {"camera", "control"});
+    hang.at_s = in.number(key + ".at_s", 0.0, 0.0, 1e6);
+    hang.for_s = in.positive(key + ".for_s", 0.0, 3600.0);
+    loop.hangs.push_back(hang);
+  }
 
   in.finish();
   return s;

@@ -102,7 +102,13 @@ int run_simulate(const SimulateArgs& args) {
         format_optional(metrics.perception_rms_e_d_m, 1e3, "%.3f").c_str(),
         format_optional(metrics.perception_rms_e_theta_rad, 180.0 / M_PI, "%.3f").c_str(),
         metrics.limit_violations, metrics.frames_lost, metrics.frames);
-    std::cout << line << '\n' << "output: " << folder.target().string() << '\n';
+    std::cout << line;
+    if (run.queue.dropped > 0) std::cout << " | queue dropped " << run.queue.dropped;
+    for (const pipeline::WatchdogStall& stall : run.stalls) {
+      std::printf(" | watchdog: %s silent %.2f s after %.2f s", stall.thread.c_str(),
+                  stall.silent_for_s, stall.last_seen_s);
+    }
+    std::cout << '\n' << "output: " << folder.target().string() << '\n';
   }
   return 0;
 }

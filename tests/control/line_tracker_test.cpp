@@ -84,6 +84,32 @@ TEST(LineTracker, NoMeasurementEverMeansStop) {
   EXPECT_NEAR(command.vx_m_s, 0.0, 1e-12);
 }
 
+// Measurements that stop arriving (a stalled camera or perception, not a lost line) are treated
+// like a lost line: hold for the hold time after the last arrival, then brake within a_max; the
+// same 0.075 m as above, braking from 0.3 m/s at 0.5 m/s^2 in 0.1 s steps.
+TEST(LineTracker, MeasurementsThatStopArrivingMeanStop) {
+  LineTracker tracker = make_tracker(0.3);
+  BodyTwist previous{0.3, 0.0, 0.0};
+  int k = 0;
+  for (; k < 5; ++k) previous = tracker.step(seen(k * kTs), k * kTs).command;
+  double distance_m = 0.0;
+  for (; k < 30; ++k) {
+    const double t = k * kTs;
+    const TrackerOutput out = tracker.step(std::nullopt, t);
+    EXPECT_EQ(check_limits(out.command, previous, kLimits, kTs), 0u) << "t=" << t;
+    EXPECT_TRUE(out.flags & kNoMeasurements);
+    if (t - 0.4 <= 0.3 + 1e-9) {
+      EXPECT_FALSE(out.flags & kStopping) << "t=" << t;
+    } else {
+      EXPECT_TRUE(out.flags & kStopping) << "t=" << t;
+      distance_m += out.command.vx_m_s * kTs;
+    }
+    previous = out.command;
+  }
+  EXPECT_NEAR(previous.vx_m_s, 0.0, 1e-12);
+  EXPECT_NEAR(distance_m, 0.075, 1e-9);
+}
+
 // Whatever the measurements say, the command never breaks a limit.
 TEST(LineTracker, NeverCommandsBeyondTheLimits) {
   LineTracker tracker = make_tracker(0.3);

@@ -135,5 +135,36 @@ TEST(ClosedLoop, ThreadedOverloadLosesNothingUncounted) {
   EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
 }
 
+// A camera thread that hangs for 1 s (a stuck driver or perception): the watchdog reports it
+// with its silence, the controller holds and then brings the vehicle to a stop within the
+// limits, and drives on once frames come again. A control thread that hangs is reported too.
+TEST(ClosedLoop, WatchdogReportsAHungThreadAndTheVehicleStops) {
+  const Scenario camera_hangs =
+      default_with({{"duration_s", "3.0"},
+                    {"loop.mode", "threaded"},
+                    {"loop.hangs", "[{thread: camera, at_s: 1.0, for_s: 1.0}]"}});
+  ASSERT_EQ(camera_hangs.loop.hangs.size(), 1u);
+  const RunResult run = run_threaded(camera_hangs);
+  bool camera_reported = false;
+  for (const WatchdogStall& stall : run.stalls) {
+    if (stall.thread == "camera") camera_reported = stall.silent_for_s >= 0.9;
+  }
+  EXPECT_TRUE(camera_reported);
+  bool stopped = false;
+  for (const TraceRow& row : run.rows) stopped = stopped || (row.output.flags & control::kStopping);
+  EXPECT_TRUE(stopped) << "drove on stale measurements";
+  EXPECT_EQ(compute_metrics(run, camera_hangs).limit_violations, 0);
+  EXPECT_GT(run.rows.back().output.command.vx_m_s, 0.0) << "did not drive on after the hang";
+
+  const Scenario control_hangs =
+      default_with({{"duration_s", "2.0"},
+                    {"loop.mode", "threaded"},
+                    {"loop.hangs", "[{thread: control, at_s: 0.5, for_s: 0.8}]"}});
+  const RunResult hung = run_threaded(control_hangs);
+  ASSERT_FALSE(hung.stalls.empty());
+  EXPECT_EQ(hung.stalls[0].thread, "control");
+  EXPECT_GE(hung.stalls[0].silent_for_s, 0.7);
+}
+
 }  // namespace
 }  // namespace agv::pipeline
