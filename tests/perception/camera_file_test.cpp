@@ -174,6 +174,8 @@ TEST_F(TempDir, BadFilesNameTheFileAndTheField) {
       {good + "mount_xyz_m: [ 0.3, 0.0 ]\nmount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n",
        "mount_xyz_m"},
       {good + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\n", "mount_rpy_rad"},
+      // Found by fuzzing: a huge declared shape made OpenCV allocate it before reading data.
+      {replaced("rows: 3", "rows: 2000000000"), "camera_matrix"},
       {good + "mount_xyz_m: [ 0.3, 0.0, 0.15 ]\nmount_rpy_rad: [ 0.0, 0.0, 0.0 ]\n",
        "mount_rpy_rad"},  // looks up
       {good + "mount_xyz_m: [ 0.3, 0.0, -0.15 ]\nmount_rpy_rad: [ 3.14159, 0.0, -1.5708 ]\n",
