@@ -8,8 +8,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 #include <string>
 #include <vector>
 
@@ -224,4 +227,54 @@ TEST_F(AgvCli, ReplayRejectsBadDatasetsByName) {
     EXPECT_EQ(s["frames"].get<int>(), 6) << name;
     EXPECT_EQ(s["frames_lost"].get<int>(), 0) << name;
   }
+}
+
+// More bad input, one case each (issue 8): frames that are empty files or 16-bit, a camera.yaml
+// cut short, a video cut short; a grey 8-bit frame is fine (perception takes grey).
+TEST_F(AgvCli, ReplayRejectsBadFramesVideosAndCameraFiles) {
+  ASSERT_EQ(run("record --quiet --set duration_s=0.3 --format png --out " + path("good")).exit_code,
+            0);
+  auto copy = [&](const std::string& name) {
+    fs::copy(dir_ / "good", dir_ / name, fs::copy_options::recursive);
+    return dir_ / name;
+  };
+  std::ofstream(copy("empty_frame") / "frames" / "000001.png");  // 0 bytes
+  cv::imwrite((copy("sixteen_bit") / "frames" / "000001.png").string(),
+              cv::Mat(480, 640, CV_16UC3, cv::Scalar(30000, 30000, 30000)));
+  {
+    const std::string text = [&] {
+      std::ifstream in(copy("cut_camera") / "camera.yaml");
+      return std::string(std::istreambuf_iterator<char>(in), {});
+    }();
+    std::ofstream(dir_ / "cut_camera" / "camera.yaml") << text.substr(0, text.size() / 3);
+  }
+  {
+    // A 20-frame MJPG video, then cut to 40 % of its bytes.
+    cv::VideoWriter writer(path("cut.avi"), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 10.0,
+                           cv::Size(640, 480));
+    ASSERT_TRUE(writer.isOpened());
+    const cv::Mat frame = cv::imread((dir_ / "good" / "frames" / "000000.png").string());
+    for (int i = 0; i < 20; ++i) writer.write(frame);
+    writer.release();
+    fs::resize_file(path("cut.avi"), fs::file_size(path("cut.avi")) * 4 / 10);
+  }
+  const std::string camera = " --camera " + (dir_ / "good" / "camera.yaml").string();
+  const std::pair<std::string, std::string> cases[] = {
+      {path("empty_frame"), "000001.png"},
+      {path("sixteen_bit"), "16-bit"},
+      {path("cut_camera"), "camera.yaml"},
+      {path("cut.avi") + camera, "cut.avi"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    const Result r = run("replay --quiet --no-video " + arguments + " --out " + path("out"));
+    EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << arguments << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "out")) << arguments;
+  }
+  cv::Mat grey;
+  cv::cvtColor(cv::imread((dir_ / "good" / "frames" / "000001.png").string()), grey,
+               cv::COLOR_BGR2GRAY);
+  cv::imwrite((copy("grey_frame") / "frames" / "000001.png").string(), grey);
+  const Result r = run("replay --quiet --no-video " + path("grey_frame") + " --out " + path("g"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
