@@ -80,9 +80,11 @@ cv::Mat read_matrix(const cv::FileNode& root, const std::string& key, const std:
     // The declared shape first: OpenCV allocates rows x cols before it reads the data, and a
     // camera file has no matrix larger than 3 x 3 or 1 x 14 (distortion).
     const cv::FileNode rows = node["rows"], cols = node["cols"];
-    if (!rows.isInt() || !cols.isInt() || static_cast<int>(rows) < 1 ||
-        static_cast<int>(cols) < 1 || static_cast<int>(rows) * static_cast<int>(cols) > 16 ||
-        static_cast<int>(rows) > 16 || static_cast<int>(cols) > 16) {
+    const auto in_range = [](const cv::FileNode& n) {
+      return n.isInt() && static_cast<int>(n) >= 1 && static_cast<int>(n) <= 16;
+    };
+    if (!in_range(rows) || !in_range(cols) ||
+        static_cast<int>(rows) * static_cast<int>(cols) > 16) {
       fail(source, key, "expected an opencv-matrix with rows and cols from 1 to 16");
     }
     try {
