@@ -23,7 +23,6 @@ struct LossFigures {
   double lost_at_x_m = 0.0;    // where the vehicle was when that frame was taken
   int first_stopped_row = -1;  // first period with a zero command after the loss
   double stopped_at_x_m = 0.0;
-  double max_speed_after_stop_m_s = 0.0;  // before the line is seen again
   bool ever_stopping = false;
 };
 
