@@ -6,6 +6,7 @@
 
 #include "common/input_error.h"
 #include "tools/bench_command.h"
+#include "tools/calibrate_command.h"
 #include "tools/evaluate_command.h"
 #include "tools/record_command.h"
 #include "tools/replay_command.h"
@@ -27,6 +28,8 @@ int main(int argc, char** argv) {
   agv::tools::ReplayArgs replay;
   agv::tools::add_record_command(app, record);
   agv::tools::add_replay_command(app, replay);
+  agv::tools::CalibrateArgs calibrate;
+  agv::tools::add_calibrate_command(app, calibrate);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -40,6 +43,7 @@ int main(int argc, char** argv) {
     if (command == "record") return agv::tools::run_record(record);
     if (command == "evaluate") return agv::tools::run_evaluate(evaluate);
     if (command == "replay") return agv::tools::run_replay_command(replay);
+    if (command == "calibrate") return agv::tools::run_calibrate(calibrate);
   } catch (const agv::InputError& e) {
     std::cerr << "agv " << command << ": error: " << e.what() << '\n';
     return 2;

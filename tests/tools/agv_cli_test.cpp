@@ -278,3 +278,40 @@ TEST_F(AgvCli, ReplayRejectsBadFramesVideosAndCameraFiles) {
   const Result r = run("replay --quiet --no-video " + path("grey_frame") + " --out " + path("g"));
   EXPECT_EQ(r.exit_code, 0) << r.output;
 }
+
+// Intrinsics from OpenCV's own chessboard sample (9x6 inner corners, 25 mm): issue 5's bar of
+// 0.5 px RMS reprojection error; square pixels (fx = fy within 1 %) and the principal point
+// within 10 % of the image centre, as a sane lens and sensor give.
+TEST_F(AgvCli, CalibratesIntrinsicsFromTheOpenCvChessboardSample) {
+  const std::string images = std::string(AGV_SHARED_DIR) + "/data/real/opencv_chessboard_left";
+  const Result r = run("calibrate intrinsics --json --images " + images +
+                       " --board chessboard:9x6:0.025 --out " + path("cam/camera.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_LE(j["rms_px"].get<double>(), 0.5);
+  EXPECT_GE(j["views_used"].get<int>(), 10);
+  EXPECT_NEAR(j["fx_px"].get<double>() / j["fy_px"].get<double>(), 1.0, 0.01);
+  EXPECT_NEAR(j["cx_px"].get<double>(), 320.0, 64.0);
+  EXPECT_NEAR(j["cy_px"].get<double>(), 240.0, 48.0);
+  EXPECT_TRUE(fs::exists(dir_ / "cam" / "camera.yaml"));
+  EXPECT_TRUE(fs::exists(dir_ / "cam" / "camera_coverage.png"));
+}
+
+TEST_F(AgvCli, CalibrateRejectsBadInputByName) {
+  const std::string tags = std::string(AGV_SHARED_DIR) + "/data/real/apriltag_nasa_swarmathon";
+  fs::create_directories(dir_ / "broken");
+  std::ofstream(dir_ / "broken" / "a.png") << "not an image";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--images " + tags, "found in 0 of 3 images"},
+      {"--images " + path("broken"), "a.png"},
+      {"--images " + path("nowhere"), "nowhere"},
+      {"--images " + tags + " --board chessboard:9by6:0.025", "--board"},
+      {"--images " + tags + " --board chessboard:9x6:-1", "--board"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    const Result r = run("calibrate intrinsics " + arguments + " --out " + path("out.yaml"));
+    EXPECT_EQ(r.exit_code, 2) << arguments << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << arguments << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(path("out.yaml"))) << arguments;
+  }
+}
