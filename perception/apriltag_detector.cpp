@@ -129,6 +129,8 @@ cv::Mat AprilTagDetector::tag_image(int id) const {
 
 int AprilTagDetector::tag_count() const { return static_cast<int>(impl_->family->ncodes); }
 
+int AprilTagDetector::size_cells() const { return impl_->family->width_at_border; }
+
 std::vector<std::string> AprilTagDetector::families() {
   std::vector<std::string> names;
   for (const FamilyFunctions& f : kFamilies) names.push_back(f.name);

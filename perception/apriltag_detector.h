@@ -55,6 +55,9 @@ class AprilTagDetector {
   // rendering tags on the floor.
   cv::Mat tag_image(int id) const;
   int tag_count() const;
+  // Cells across the tag's size as AprilTag measures it (the black border square for
+  // tag36h11: 8 of its 10 cells): the side of one cell is size_m / size_cells().
+  int size_cells() const;
   const Options& options() const { return options_; }
 
   static std::vector<std::string> families();

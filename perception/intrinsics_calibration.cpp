@@ -41,8 +41,8 @@ double view_rms_px(const std::vector<cv::Point3f>& object, const std::vector<cv:
 ChessboardSpec parse_board(const std::string& text) {
   ChessboardSpec board;
   int consumed = 0;
-  if (std::sscanf(text.c_str(), "chessboard:%dx%d:%lf%n", &board.cols, &board.rows,
-                  &board.square_m, &consumed) != 3 ||
+  if (std::sscanf(text.c_str(), "chessboard:%dx%d:%lf%n", &board.cols, &board.rows, &board.square_m,
+                  &consumed) != 3 ||
       consumed != static_cast<int>(text.size()))
     throw InputError("--board " + text + ": expected chessboard:COLSxROWS:SQUARE_M");
   if (board.cols < 3 || board.rows < 3 || board.cols > 100 || board.rows > 100)

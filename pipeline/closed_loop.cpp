@@ -84,6 +84,11 @@ control::LineTracker make_tracker(const Scenario& s) {
                               start_twist(s));
 }
 
+perception::CameraModel render_camera(const Scenario& s) {
+  if (!s.true_mount) return perception::camera_model_of(s.camera, s.camera_name);
+  return perception::CameraModel(s.camera.intrinsics, *s.true_mount);
+}
+
 std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config) {
   if (config.kind == "pid") return std::make_unique<control::PidController>(config.pid);
   return std::make_unique<control::FiniteStepController>(config.finite_step);
@@ -92,7 +97,7 @@ std::unique_ptr<control::PathController> make_controller(const ControllerConfig&
 RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameSink& sink) {
   const Clock::time_point wall_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
-  const FrameRenderer renderer(camera, render_scene(s));
+  const FrameRenderer renderer(render_camera(s), render_scene(s));
   perception::TrackingLineEstimator estimator(camera, perception_options(s));
   control::LineTracker tracker = make_tracker(s);
   Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
@@ -153,7 +158,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   // Built before the clock starts: their set-up (floor map, texture) is not part of the run.
   const Clock::time_point setup_start = Clock::now();
   const perception::CameraModel camera = perception::camera_model_of(s.camera, s.camera_name);
-  const FrameRenderer renderer(camera, render_scene(s));
+  const FrameRenderer renderer(render_camera(s), render_scene(s));
   perception::TrackingLineEstimator estimator(camera, perception_options(s));  // camera thread
   const double setup_wall_s = seconds_since(setup_start);
   const Clock::time_point wall_start = Clock::now();

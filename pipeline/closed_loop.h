@@ -71,6 +71,8 @@ using FrameSink =
     std::function<void(const FrameRecord& record, const Pose2& pose, const cv::Mat& frame)>;
 
 std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config);
+// The camera that takes the frames: the camera file's, or its intrinsics with the true mount.
+perception::CameraModel render_camera(const Scenario& scenario);
 // The scenario's controller inside a LineTracker (limits, line-loss hold), started at its twist.
 control::LineTracker make_tracker(const Scenario& scenario);
 

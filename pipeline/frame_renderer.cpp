@@ -1,5 +1,7 @@
 #include "pipeline/frame_renderer.h"
 
+#include "perception/apriltag_detector.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -29,6 +31,21 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
       pieces_(tape_pieces(scene.tapes)) {
   const int w = camera.intrinsics().width_px, h = camera.intrinsics().height_px;
   const ImageEffects& fx = scene.effects;
+  for (const FloorTag& tag : scene.tags) {
+    perception::AprilTagDetector::Options options;
+    options.family = tag.family;
+    options.max_hamming = 0;  // only the pattern is needed
+    const perception::AprilTagDetector family(options);
+    TagPattern p;
+    p.cells = family.tag_image(tag.id);
+    p.cell_m = tag.size_m / family.size_cells();
+    p.half_extent_m = 0.5 * p.cells.cols * p.cell_m;
+    p.x_m = tag.pose.x_m;
+    p.y_m = tag.pose.y_m;
+    p.cos_yaw = std::cos(tag.pose.yaw_rad);
+    p.sin_yaw = std::sin(tag.pose.yaw_rad);
+    tag_patterns_.push_back(p);
+  }
   // Pixels that see no floor get floor point (0, 0) and zero gain: black plus noise.
   cv::patchNaNs(floor_x_m_ = floor_map_.x_m().clone(), 0.0);
   cv::patchNaNs(floor_y_m_ = floor_map_.y_m().clone(), 0.0);
@@ -259,6 +276,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       }
     }
 
+    if (!tag_patterns_.empty()) draw_tags_in_row(v, pose, blue.data(), green.data(), red.data());
+
     // Camera: vignetting and illumination gain, sensor noise, 8-bit output (one plane per
     // channel, so that the loops vectorise; merged into BGR at the end).
     const float* gain = gain_.ptr<float>(v);
@@ -276,6 +295,66 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
     }
   }
   cv::merge(planes, 3, *frame);
+}
+
+void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green,
+                                     float* red) const {
+  // Printed paper: black ink and white paper levels (before the camera's gain).
+  constexpr float kBlack = 20.0f, kWhite = 230.0f;
+  constexpr int kSub = 4;  // 4 x 4 samples per pixel: edges land at sub-pixel accuracy
+  const int w = floor_x_m_.cols, h = floor_x_m_.rows;
+  const float* xs = floor_x_m_.ptr<float>(v);
+  const float* ys = floor_y_m_.ptr<float>(v);
+  const float* xs_up = floor_x_m_.ptr<float>(std::max(0, v - 1));
+  const float* ys_up = floor_y_m_.ptr<float>(std::max(0, v - 1));
+  const float* xs_down = floor_x_m_.ptr<float>(std::min(h - 1, v + 1));
+  const float* ys_down = floor_y_m_.ptr<float>(std::min(h - 1, v + 1));
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  const double row_span = (v > 0 && v + 1 < h) ? 0.5 : 1.0;
+  for (int u = 0; u < w; ++u) {
+    if (xs[u] == 0.0f && ys[u] == 0.0f) continue;  // no floor seen
+    const int ul = std::max(0, u - 1), ur = std::min(w - 1, u + 1);
+    const double col_span = (ur - ul == 2) ? 0.5 : 1.0;
+    // The pixel's footprint on the floor (vehicle frame): centre and the steps of one pixel.
+    const double px = xs[u], py = ys[u];
+    const double ux = (xs[ur] - xs[ul]) * col_span, uy = (ys[ur] - ys[ul]) * col_span;
+    const double vx = (xs_down[u] - xs_up[u]) * row_span, vy = (ys_down[u] - ys_up[u]) * row_span;
+    for (const TagPattern& tag : tag_patterns_) {
+      // Pixel centre in the tag's frame; skip pixels clearly off the tag.
+      const double wx = c * px - s * py + pose.x_m - tag.x_m;
+      const double wy = s * px + c * py + pose.y_m - tag.y_m;
+      const double lx = tag.cos_yaw * wx + tag.sin_yaw * wy;
+      const double ly = -tag.sin_yaw * wx + tag.cos_yaw * wy;
+      const double reach =
+          tag.half_extent_m + std::abs(ux) + std::abs(uy) + std::abs(vx) + std::abs(vy);
+      if (std::abs(lx) > reach || std::abs(ly) > reach) continue;
+      float sum = 0.0f;
+      int inside = 0;
+      for (int a = 0; a < kSub; ++a) {
+        for (int b = 0; b < kSub; ++b) {
+          const double fu = (a + 0.5) / kSub - 0.5, fv = (b + 0.5) / kSub - 0.5;
+          const double qx = px + fu * ux + fv * vx, qy = py + fu * uy + fv * vy;
+          const double tx = c * qx - s * qy + pose.x_m - tag.x_m;
+          const double ty = s * qx + c * qy + pose.y_m - tag.y_m;
+          const double tag_x = tag.cos_yaw * tx + tag.sin_yaw * ty;
+          const double tag_y = -tag.sin_yaw * tx + tag.cos_yaw * ty;
+          // The tag image's columns run along the tag's x, its rows against its y (seen from
+          // above, the printed tag is not mirrored).
+          const int col = static_cast<int>(std::floor((tag_x + tag.half_extent_m) / tag.cell_m));
+          const int row = static_cast<int>(std::floor((tag.half_extent_m - tag_y) / tag.cell_m));
+          if (col < 0 || row < 0 || col >= tag.cells.cols || row >= tag.cells.rows) continue;
+          ++inside;
+          sum += tag.cells.at<unsigned char>(row, col) ? kWhite : kBlack;
+        }
+      }
+      if (inside == 0) continue;
+      const float a = static_cast<float>(inside) / (kSub * kSub);
+      const float level = sum / inside;
+      blue[u] += a * (level - blue[u]);
+      green[u] += a * (level - green[u]);
+      red[u] += a * (level - red[u]);
+    }
+  }
 }
 
 }  // namespace agv::pipeline

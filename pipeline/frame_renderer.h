@@ -19,8 +19,9 @@ namespace agv::pipeline {
 // textured floor, tape with anti-aliased soft edges (worn, interrupted), motion blur over the
 // exposure, lens distortion (each pixel samples the floor along its own distorted ray),
 // vignetting, an illumination gradient, the vehicle's shadow, a specular glare and Gaussian
-// sensor noise. Headless, single-threaded, deterministic
-// for the scene's seed and the frame index. One renderer per thread: rendering reuses buffers.
+// sensor noise; AprilTags lying on the floor (area-sampled, for calibration). Headless,
+// single-threaded, deterministic for the scene's seed and the frame index. One renderer per thread:
+// rendering reuses buffers.
 class FrameRenderer {
  public:
   FrameRenderer(const perception::CameraModel& camera, const Scene& scene);
@@ -45,6 +46,14 @@ class FrameRenderer {
   std::vector<float> wear_level_;  // per strip: texture level above which the tape is worn
   cv::Mat noise_bank_;             // CV_8S: standard normal samples x kNoiseScale
   std::vector<WorldPiece> pieces_;
+  struct TagPattern {  // a floor tag's cells (0 black, 255 white) and where they lie
+    cv::Mat cells;
+    double cell_m = 0.0, half_extent_m = 0.0;
+    double x_m = 0.0, y_m = 0.0, cos_yaw = 1.0, sin_yaw = 0.0;
+  };
+  std::vector<TagPattern> tag_patterns_;
+  // Tags drawn into one row of colour buffers (no motion blur: tags serve static calibration).
+  void draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green, float* red) const;
   std::vector<cv::Mat> inverse_ramp_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
     cv::Mat texture_small, texture_image, planes[3];

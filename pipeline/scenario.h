@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "control/finite_step_controller.h"
@@ -85,6 +86,10 @@ struct Scenario {
   int perception_search_every_frames = 10;  // full-frame search at least this often
   std::string camera_name;                  // where the camera came from
   perception::CameraFile camera;
+  // The mount the camera really has, when it differs from the camera file's (what a wrong or
+  // outdated calibration does): frames are rendered with it, perception uses the file's.
+  std::optional<perception::MountPose> true_mount;
+  std::vector<FloorTag> floor_tags;  // AprilTags on the floor (world frame), for calibration
   VehicleConfig vehicle;
   ControllerConfig controller;
   MetricsConfig metrics;

@@ -232,6 +232,26 @@ Scenario load_scenario(const ScenarioText& source,
                      "pose (run 'agv calibrate mount', or add mount_xyz_m and mount_rpy_rad)");
   }
 
+  if (in.has("camera_true_mount")) {
+    perception::MountPose mount;
+    const std::vector<double> xyz = in.numbers("camera_true_mount.xyz_m", {}, 3, -10.0, 10.0);
+    const std::vector<double> rpy = in.numbers("camera_true_mount.rpy_rad", {}, 3, -7.0, 7.0);
+    mount.xyz_m = {xyz[0], xyz[1], xyz[2]};
+    mount.rpy_rad = {rpy[0], rpy[1], rpy[2]};
+    perception::validate_mount(mount, in.origin("camera_true_mount") + " (camera_true_mount)");
+    s.true_mount = mount;
+  }
+  for (size_t i = 0; i < in.sequence_size("floor_tags"); ++i) {
+    const std::string key = "floor_tags." + std::to_string(i);
+    FloorTag tag;
+    tag.family = in.text(key + ".family", tag.family);
+    tag.id = in.integer(key + ".id", 0, 0, 100000);
+    tag.size_m = in.number(key + ".size_m", tag.size_m, 0.005, 2.0);
+    tag.pose = {in.number(key + ".x_m", 0.0, -1e4, 1e4), in.number(key + ".y_m", 0.0, -1e4, 1e4),
+                in.number(key + ".yaw_rad", 0.0, -10.0, 10.0)};
+    s.floor_tags.push_back(tag);
+  }
+
   VehicleConfig& v = s.vehicle;
   v.kind = in.choice("vehicle.kind", v.kind, {"mecanum"});
   v.mecanum.wheel_radius_m = in.positive("vehicle.wheel_radius_m", v.mecanum.wheel_radius_m, 1.0);
@@ -310,6 +330,7 @@ Scenario load_scenario(const ScenarioText& source,
 Scene render_scene(const Scenario& scenario) {
   Scene scene;
   add_floor_marks(scenario, &scene);  // first: the tape is laid over seams and marks
+  scene.tags = scenario.floor_tags;
   scene.tapes.push_back(scenario.tape);
   for (const control::Path& path : scenario.extra_paths) {
     TapeStrip extra = scenario.tape;

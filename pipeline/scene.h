@@ -2,9 +2,11 @@
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <string>
 #include <utility>
 #include <vector>
 
+#include "common/pose2.h"
 #include "control/path.h"
 
 namespace agv::pipeline {
@@ -50,8 +52,19 @@ struct ImageEffects {
   double specular_radius = 0.08;
 };
 
+// An AprilTag printed on paper lying on the floor: its pattern (white margin included), centred
+// at `pose` (world), its x axis along the pose's heading. size_m is AprilTag's size (the black
+// border square for tag36h11).
+struct FloorTag {
+  std::string family = "tag36h11";
+  int id = 0;
+  double size_m = 0.10;
+  Pose2 pose;
+};
+
 struct Scene {
   std::vector<TapeStrip> tapes;
+  std::vector<FloorTag> tags;
   FloorStyle floor;
   ImageEffects effects;
   std::uint64_t seed = 1;

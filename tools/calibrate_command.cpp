@@ -6,6 +6,7 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -13,6 +14,7 @@
 #include "common/input_error.h"
 #include "perception/camera_file.h"
 #include "perception/intrinsics_calibration.h"
+#include "perception/mount_calibration.h"
 
 namespace agv::tools {
 namespace fs = std::filesystem;
@@ -32,28 +34,123 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
                   "Board: chessboard:COLSxROWS:SQUARE_M (inner corners), default 9x6, 25 mm");
   sub->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
   sub->add_flag("--json", args.json, "Print the result as JSON");
+
+  CLI::App* mount = calibrate->add_subcommand(
+      "mount",
+      "The camera's mount on the vehicle (the camera offset) from AprilTags lying on the floor "
+      "at known poses in the vehicle frame: one joint PnP over every corner of every frame. "
+      "Prints the mount (xyz, rpy and in words), its reprojection RMS and standard deviations; "
+      "writes the camera YAML with the mount.");
+  mount->add_option("--frames", args.frames, "Folder of images, or a dataset folder (frames/)")
+      ->required();
+  mount
+      ->add_option("--tags", args.tags_file,
+                   "TAGS.yaml: family (default tag36h11) and tags: [{id, size_m, x_m, y_m, "
+                   "yaw_rad}] in the vehicle frame")
+      ->required();
+  mount->add_option("--camera", args.camera_file, "Camera YAML with the intrinsics")->required();
+  mount->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
+  mount->add_flag("--json", args.json, "Print the result as JSON");
 }
 
-int run_calibrate(const CalibrateArgs& args) {
-  const perception::ChessboardSpec board = perception::parse_board(args.board);
-  if (!fs::is_directory(args.images_dir))
-    throw InputError(args.images_dir + ": not a folder of images");
+namespace {
+
+// The PNG/JPEG images of a folder in name order, grey; throws InputError naming the file.
+void read_images(const std::string& folder, std::vector<std::string>* names,
+                 std::vector<cv::Mat>* images) {
+  if (!fs::is_directory(folder)) throw InputError(folder + ": not a folder of images");
   std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(args.images_dir)) {
+  for (const auto& entry : fs::directory_iterator(folder)) {
     std::string ext = entry.path().extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(args.images_dir + ": no .png or .jpg images in it");
-  std::vector<std::string> names;
-  std::vector<cv::Mat> images;
+  if (files.empty()) throw InputError(folder + ": no .png or .jpg images in it");
   for (const fs::path& file : files) {
     cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
     if (image.empty()) throw InputError(file.string() + ": cannot be read or decoded");
-    names.push_back(file.filename().string());
-    images.push_back(image);
+    names->push_back(file.filename().string());
+    images->push_back(image);
   }
+}
+
+std::string now_text() {
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S", std::localtime(&now));
+  return date;
+}
+
+int run_mount(const CalibrateArgs& args) {
+  perception::CameraFile camera = perception::load_camera_file(args.camera_file);
+  const perception::FloorTagsFile tags = perception::load_floor_tags(args.tags_file);
+  const std::string folder =
+      fs::is_directory(fs::path(args.frames) / "frames") ? args.frames + "/frames" : args.frames;
+  std::vector<std::string> names;
+  std::vector<cv::Mat> images;
+  read_images(folder, &names, &images);
+  for (size_t i = 0; i < images.size(); ++i) {
+    if (images[i].cols != camera.intrinsics.width_px ||
+        images[i].rows != camera.intrinsics.height_px)
+      throw InputError(names[i] + ": image size differs from " + args.camera_file);
+  }
+  const perception::MountCalibration m =
+      perception::calibrate_mount(camera.intrinsics, images, names, tags);
+  const std::optional<perception::MountPose> before = camera.mount;
+  camera.mount = m.mount;
+  camera.mount_calibration.avg_reprojection_error_px = m.rms_px;
+  camera.mount_calibration.views = m.frames_used;
+  camera.mount_calibration.method =
+      "agv calibrate mount, " + std::to_string(m.tags_seen) + " " + tags.family + " tags";
+  camera.mount_calibration.date = now_text();
+  if (fs::path(args.out).has_parent_path())
+    fs::create_directories(fs::path(args.out).parent_path());
+  perception::save_camera_file(args.out, camera);
+  const double deg = 180.0 / M_PI;
+  if (args.json) {
+    nlohmann::json j;
+    j["mount_xyz_m"] = {m.mount.xyz_m.x(), m.mount.xyz_m.y(), m.mount.xyz_m.z()};
+    j["mount_rpy_rad"] = {m.mount.rpy_rad.x(), m.mount.rpy_rad.y(), m.mount.rpy_rad.z()};
+    j["sigma_xyz_m"] = {m.sigma[0], m.sigma[1], m.sigma[2]};
+    j["sigma_rpy_rad"] = {m.sigma[3], m.sigma[4], m.sigma[5]};
+    j["rms_px"] = m.rms_px;
+    j["frames"] = images.size();
+    j["frames_used"] = m.frames_used;
+    j["tags_seen"] = m.tags_seen;
+    j["points"] = m.points;
+    j["description"] = m.mount.describe();
+    j["warnings"] = m.warnings;
+    std::cout << j.dump(2) << '\n';
+  } else {
+    std::printf("mount_xyz_m  [%.4f, %.4f, %.4f] m  +- [%.2f, %.2f, %.2f] mm\n", m.mount.xyz_m.x(),
+                m.mount.xyz_m.y(), m.mount.xyz_m.z(), 1e3 * m.sigma[0], 1e3 * m.sigma[1],
+                1e3 * m.sigma[2]);
+    std::printf("mount_rpy_rad [%.5f, %.5f, %.5f] +- [%.3f, %.3f, %.3f] deg\n", m.mount.rpy_rad.x(),
+                m.mount.rpy_rad.y(), m.mount.rpy_rad.z(), m.sigma[3] * deg, m.sigma[4] * deg,
+                m.sigma[5] * deg);
+    std::printf("camera %s\n", m.mount.describe().c_str());
+    if (before) {
+      const Eigen::Vector3d d = m.mount.xyz_m - before->xyz_m;
+      std::printf("change from %s: %.1f mm (%.1f, %.1f, %.1f)\n", args.camera_file.c_str(),
+                  1e3 * d.norm(), 1e3 * d.x(), 1e3 * d.y(), 1e3 * d.z());
+    }
+    std::printf("RMS reprojection %.3f px | %d of %zu frames, %d tags, %d corners | output: %s\n",
+                m.rms_px, m.frames_used, images.size(), m.tags_seen, m.points, args.out.c_str());
+  }
+  for (const std::string& warning : m.warnings)
+    std::cerr << "agv calibrate mount: warning: " << warning << '\n';
+  return 0;
+}
+
+}  // namespace
+
+int run_calibrate(const CalibrateArgs& args) {
+  if (!args.frames.empty()) return run_mount(args);
+  const perception::ChessboardSpec board = perception::parse_board(args.board);
+  std::vector<std::string> names;
+  std::vector<cv::Mat> images;
+  read_images(args.images_dir, &names, &images);
   const perception::IntrinsicsCalibration result =
       perception::calibrate_intrinsics(names, images, board);
 
@@ -62,12 +159,10 @@ int run_calibrate(const CalibrateArgs& args) {
   camera.intrinsics_calibration.avg_reprojection_error_px = result.rms_px;
   camera.intrinsics_calibration.views = result.used_views;
   camera.intrinsics_calibration.method = "agv calibrate intrinsics, " + args.board;
-  const std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S", std::localtime(&now));
-  camera.intrinsics_calibration.date = date;
+  camera.intrinsics_calibration.date = now_text();
   perception::validate_intrinsics(camera.intrinsics, "calibration result");
-  if (fs::path(args.out).has_parent_path()) fs::create_directories(fs::path(args.out).parent_path());
+  if (fs::path(args.out).has_parent_path())
+    fs::create_directories(fs::path(args.out).parent_path());
   perception::save_camera_file(args.out, camera);
   const fs::path coverage =
       fs::path(args.out).parent_path() / (fs::path(args.out).stem().string() + "_coverage.png");

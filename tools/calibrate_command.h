@@ -7,15 +7,20 @@ namespace agv::tools {
 
 struct CalibrateArgs {
   std::string images_dir;
+  // mount
+  std::string frames;  // folder of images, or a dataset folder (its frames/)
+  std::string tags_file;
+  std::string camera_file;
   std::string board = "chessboard:9x6:0.025";
   std::string out = "camera.yaml";
   bool json = false;
 };
 
-// `agv calibrate intrinsics`.
+// `agv calibrate intrinsics` and `agv calibrate mount`.
 void add_calibrate_command(CLI::App& app, CalibrateArgs& args);
 
-// Runs `agv calibrate intrinsics`; returns the exit code. Throws InputError on bad input.
+// Runs the chosen `agv calibrate` command; returns the exit code. Throws InputError on bad
+// input.
 int run_calibrate(const CalibrateArgs& args);
 
 }  // namespace agv::tools

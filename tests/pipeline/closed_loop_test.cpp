@@ -147,7 +147,8 @@ TEST(ClosedLoop, WatchdogReportsAHungThreadAndTheVehicleStops) {
   const RunResult run = run_threaded(camera_hangs);
   bool camera_reported = false;
   for (const WatchdogStall& stall : run.stalls) {
-    if (stall.thread == "camera") camera_reported = stall.silent_for_s >= 0.9;
+    // (Under a sanitizer, slow frames may add shorter camera stalls of their own.)
+    if (stall.thread == "camera") camera_reported = camera_reported || stall.silent_for_s >= 0.9;
   }
   EXPECT_TRUE(camera_reported);
   bool stopped = false;
@@ -161,9 +162,11 @@ TEST(ClosedLoop, WatchdogReportsAHungThreadAndTheVehicleStops) {
                     {"loop.mode", "threaded"},
                     {"loop.hangs", "[{thread: control, at_s: 0.5, for_s: 0.8}]"}});
   const RunResult hung = run_threaded(control_hangs);
-  ASSERT_FALSE(hung.stalls.empty());
-  EXPECT_EQ(hung.stalls[0].thread, "control");
-  EXPECT_GE(hung.stalls[0].silent_for_s, 0.7);
+  bool control_reported = false;
+  for (const WatchdogStall& stall : hung.stalls) {
+    if (stall.thread == "control") control_reported = control_reported || stall.silent_for_s >= 0.7;
+  }
+  EXPECT_TRUE(control_reported);
 }
 
 }  // namespace

@@ -315,3 +315,37 @@ TEST_F(AgvCli, CalibrateRejectsBadInputByName) {
     EXPECT_FALSE(fs::exists(path("out.yaml"))) << arguments;
   }
 }
+
+// The whole mount chain as a user runs it: frames of tags on the floor recorded with a camera
+// whose true mount is 5 mm ahead, 4 mm left and turned 1 deg from the camera file's
+// (scenarios/mount_tags.yaml), `agv calibrate mount` on them: the true mount within issue 5's
+// 1 mm and 0.1 deg. Bad TAGS.yaml -> exit 2 naming the key.
+TEST_F(AgvCli, CalibratesTheMountFromRecordedTagFrames) {
+  const std::string source = AGV_SOURCE_DIR;
+  ASSERT_EQ(run("record --quiet --scenario " + source + "/scenarios/mount_tags.yaml --out " +
+                path("tags"))
+                .exit_code,
+            0);
+  const Result r = run("calibrate mount --json --frames " + path("tags") + " --tags " + source +
+                       "/scenarios/mount_tags_vehicle.yaml --camera " + source +
+                       "/tools/config/default_camera.yaml --out " + path("calibrated.yaml"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  const std::vector<double> xyz = j["mount_xyz_m"], rpy = j["mount_rpy_rad"];
+  EXPECT_NEAR(xyz[0], 0.305, 0.001);
+  EXPECT_NEAR(xyz[1], 0.004, 0.001);
+  EXPECT_NEAR(xyz[2], 0.150, 0.001);
+  const double to_deg = 180.0 / 3.14159265358979;
+  EXPECT_NEAR(std::remainder(rpy[0] - 3.14159265, 2 * 3.14159265) * to_deg, 0.0, 0.1);
+  EXPECT_NEAR(rpy[1] * to_deg, 0.0, 0.1);
+  EXPECT_NEAR((rpy[2] + 1.55334303) * to_deg, 0.0, 0.1);
+  EXPECT_TRUE(fs::exists(path("calibrated.yaml")));
+
+  std::ofstream(path("bad_tags.yaml")) << "tags:\n  - {id: 0, size_m: 0.04, x_m: 0.2}\n";
+  const Result bad =
+      run("calibrate mount --frames " + path("tags") + " --tags " + path("bad_tags.yaml") +
+          " --camera " + source + "/tools/config/default_camera.yaml --out " + path("x.yaml"));
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("tags.0.y_m"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(path("x.yaml")));
+}
