@@ -21,7 +21,10 @@ namespace fs = std::filesystem;
 
 void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
   CLI::App* calibrate =
-      app.add_subcommand("calibrate", "Camera calibration: `agv calibrate intrinsics --help`");
+      app.add_subcommand("calibrate",
+                         "Camera calibration: intrinsics from chessboard images, or the mount "
+                         "(camera offset) from AprilTags on the floor; see `agv calibrate "
+                         "intrinsics --help`, `agv calibrate mount --help`");
   calibrate->require_subcommand(1);
   CLI::App* sub = calibrate->add_subcommand(
       "intrinsics",
