@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "common/input_error.h"
+#include "perception/apriltag_detector.h"
 
 namespace agv::perception {
 namespace {
@@ -36,11 +38,43 @@ double view_rms_px(const std::vector<cv::Point3f>& object, const std::vector<cv:
   return std::sqrt(sum / std::max<size_t>(1, image.size()));
 }
 
+// The corners of the grid's tags found in the image, with their places on the board (x right, y
+// down as printed; a tag's ideal corners (-1, 1), (1, 1), (1, -1), (-1, -1) in detector order).
+void add_grid_tags(const AprilTagDetector& detector, const cv::Mat& grey,
+                   const ChessboardSpec& board, CalibrationView* view) {
+  const double ideal[4][2] = {{-1, 1}, {1, 1}, {1, -1}, {-1, -1}};
+  for (const TagDetection& tag : detector.detect(grey)) {
+    if (tag.id >= board.cols * board.rows) continue;
+    const double cx = (tag.id % board.cols) * board.pitch_m;
+    const double cy = (tag.id / board.cols) * board.pitch_m;
+    for (int k = 0; k < 4; ++k) {
+      view->corners_px.emplace_back(static_cast<float>(tag.corners_px[k].x),
+                                    static_cast<float>(tag.corners_px[k].y));
+      view->board_points.emplace_back(static_cast<float>(cx + ideal[k][0] * board.tag_m / 2),
+                                      static_cast<float>(cy + ideal[k][1] * board.tag_m / 2), 0.0f);
+    }
+  }
+}
+
 }  // namespace
 
 ChessboardSpec parse_board(const std::string& text) {
   ChessboardSpec board;
+  board.text = text;
   int consumed = 0;
+  if (text.rfind("apriltag:", 0) == 0) {
+    board.kind = ChessboardSpec::Kind::kAprilTagGrid;
+    if (std::sscanf(text.c_str(), "apriltag:%dx%d:%lf:%lf%n", &board.cols, &board.rows,
+                    &board.tag_m, &board.pitch_m, &consumed) != 4 ||
+        consumed != static_cast<int>(text.size()))
+      throw InputError("--board " + text + ": expected apriltag:COLSxROWS:TAG_M:PITCH_M");
+    if (board.cols < 1 || board.rows < 1 || board.cols * board.rows < 4 || board.cols > 100 ||
+        board.rows > 100)
+      throw InputError("--board " + text + ": a grid of 4 to 10000 tags");
+    if (!(board.tag_m > 0.0 && board.tag_m < board.pitch_m && board.pitch_m < 10.0))
+      throw InputError("--board " + text + ": need 0 < TAG_M < PITCH_M < 10");
+    return board;
+  }
   if (std::sscanf(text.c_str(), "chessboard:%dx%d:%lf%n", &board.cols, &board.rows, &board.square_m,
                   &consumed) != 3 ||
       consumed != static_cast<int>(text.size()))
@@ -57,6 +91,12 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
                                            const ChessboardSpec& board) {
   IntrinsicsCalibration result;
   const cv::Size pattern(board.cols, board.rows);
+  std::unique_ptr<AprilTagDetector> tag_detector;
+  if (board.kind == ChessboardSpec::Kind::kAprilTagGrid) {
+    AprilTagDetector::Options options;
+    options.family = board.family;
+    tag_detector = std::make_unique<AprilTagDetector>(options);
+  }
   cv::Size size;
   for (size_t i = 0; i < images.size(); ++i) {
     CalibrationView view;
@@ -73,16 +113,22 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
                        std::to_string(grey.rows) + ", the first was " + std::to_string(size.width) +
                        "x" + std::to_string(size.height));
     }
-    view.board_found =
-        cv::findChessboardCorners(grey, pattern, view.corners_px,
-                                  cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
-    if (view.board_found) {
-      cv::cornerSubPix(grey, view.corners_px, cv::Size(11, 11), cv::Size(-1, -1),
-                       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
+    if (board.kind == ChessboardSpec::Kind::kChessboard) {
+      view.board_found =
+          cv::findChessboardCorners(grey, pattern, view.corners_px,
+                                    cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
+      if (view.board_found) {
+        cv::cornerSubPix(
+            grey, view.corners_px, cv::Size(11, 11), cv::Size(-1, -1),
+            cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
+        view.board_points = board_points(board);
+      }
+    } else {
+      add_grid_tags(*tag_detector, grey, board, &view);
+      view.board_found = view.corners_px.size() >= 16;
     }
     result.views.push_back(view);
   }
-  const std::vector<cv::Point3f> object = board_points(board);
   auto calibrate = [&](bool keep_used) {
     std::vector<std::vector<cv::Point3f>> objects;
     std::vector<std::vector<cv::Point2f>> corners;
@@ -90,15 +136,18 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
     for (size_t i = 0; i < result.views.size(); ++i) {
       CalibrationView& v = result.views[i];
       if (!v.board_found || (keep_used && !v.used)) continue;
-      objects.push_back(object);
+      objects.push_back(v.board_points);
       corners.push_back(v.corners_px);
       index.push_back(static_cast<int>(i));
     }
     if (objects.size() < 3) {
-      throw InputError(
-          "a " + std::to_string(board.cols) + "x" + std::to_string(board.rows) +
-          " chessboard (inner corners) was found in " + std::to_string(objects.size()) + " of " +
-          std::to_string(result.views.size()) + " images; at least 3 views are needed");
+      const std::string what = board.kind == ChessboardSpec::Kind::kChessboard
+                                   ? "a " + std::to_string(board.cols) + "x" +
+                                         std::to_string(board.rows) + " chessboard (inner corners)"
+                                   : "an AprilTag grid (" + board.text + ", 4 tags or more)";
+      throw InputError(what + " was found in " + std::to_string(objects.size()) + " of " +
+                       std::to_string(result.views.size()) +
+                       " images; at least 3 views are needed");
     }
     cv::Mat k, d;
     std::vector<cv::Mat> rvecs, tvecs;
@@ -106,7 +155,7 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
     for (size_t j = 0; j < index.size(); ++j) {
       CalibrationView& v = result.views[index[j]];
       v.used = true;
-      v.rms_px = view_rms_px(object, v.corners_px, k, d, rvecs[j], tvecs[j]);
+      v.rms_px = view_rms_px(v.board_points, v.corners_px, k, d, rvecs[j], tvecs[j]);
     }
     result.intrinsics.width_px = size.width;
     result.intrinsics.height_px = size.height;

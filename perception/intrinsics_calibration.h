@@ -9,14 +9,24 @@
 
 namespace agv::perception {
 
-// A planar chessboard: inner corners per row (cols) and per column (rows), square size.
+// A planar calibration board:
+//   chessboard: inner corners per row (cols) and per column (rows), square size;
+//   apriltag:   a grid of cols x rows tags of the family, ids 0, 1, ... row by row from the top
+//               left, each tag_m across (AprilTag's size), centres pitch_m apart. Any 4 or more
+//               tags of the grid in view make a view.
 struct ChessboardSpec {
+  enum class Kind { kChessboard, kAprilTagGrid };
+  Kind kind = Kind::kChessboard;
   int cols = 9;
   int rows = 6;
-  double square_m = 0.025;
+  double square_m = 0.025;            // chessboard
+  double tag_m = 0.0, pitch_m = 0.0;  // AprilTag grid
+  std::string family = "tag36h11";
+  std::string text;  // as given, for messages
 };
 
-// "chessboard:COLSxROWS:SQUARE_M" (e.g. chessboard:9x6:0.025). Throws InputError naming --board.
+// "chessboard:COLSxROWS:SQUARE_M" (e.g. chessboard:9x6:0.025) or
+// "apriltag:COLSxROWS:TAG_M:PITCH_M" (tag36h11). Throws InputError naming --board.
 ChessboardSpec parse_board(const std::string& text);
 
 struct CalibrationView {
@@ -25,6 +35,7 @@ struct CalibrationView {
   bool used = false;    // found and kept (not rejected as an outlier)
   double rms_px = 0.0;  // reprojection RMS of its corners with the final calibration
   std::vector<cv::Point2f> corners_px;
+  std::vector<cv::Point3f> board_points;  // the corners' places on the board
 };
 
 struct IntrinsicsCalibration {

@@ -28,13 +28,16 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
   calibrate->require_subcommand(1);
   CLI::App* sub = calibrate->add_subcommand(
       "intrinsics",
-      "Intrinsics from images of a chessboard: sub-pixel corners, OpenCV calibrateCamera "
+      "Intrinsics from images of a chessboard (sub-pixel corners) or an AprilTag grid: OpenCV "
+      "calibrateCamera "
       "(k1 k2 p1 p2 k3), outlier views rejected. Writes the camera YAML (OpenCV sample layout, "
       "no mount) and <out>_coverage.png (where the corners fell); prints the RMS reprojection "
       "error and each view's, and warns when views or coverage are too few to trust.");
   sub->add_option("--images", args.images_dir, "Folder of PNG/JPEG images")->required();
   sub->add_option("--board", args.board,
-                  "Board: chessboard:COLSxROWS:SQUARE_M (inner corners), default 9x6, 25 mm");
+                  "chessboard:COLSxROWS:SQUARE_M (inner corners; default chessboard:9x6:0.025) or "
+                  "apriltag:COLSxROWS:TAG_M:PITCH_M (a grid of tag36h11 tags, ids 0.. row by row "
+                  "from the top left, TAG_M across, centres PITCH_M apart)");
   sub->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
   sub->add_flag("--json", args.json, "Print the result as JSON");
 
