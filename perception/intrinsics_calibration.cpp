@@ -16,7 +16,7 @@ namespace {
 
 constexpr int kGrid = 5;
 
-std::vector<cv::Point3f> board_points(const ChessboardSpec& board) {
+std::vector<cv::Point3f> board_points(const BoardSpec& board) {
   std::vector<cv::Point3f> points;
   for (int r = 0; r < board.rows; ++r) {
     for (int c = 0; c < board.cols; ++c)
@@ -40,8 +40,8 @@ double view_rms_px(const std::vector<cv::Point3f>& object, const std::vector<cv:
 
 // The corners of the grid's tags found in the image, with their places on the board (x right, y
 // down as printed; a tag's ideal corners (-1, 1), (1, 1), (1, -1), (-1, -1) in detector order).
-void add_grid_tags(const AprilTagDetector& detector, const cv::Mat& grey,
-                   const ChessboardSpec& board, CalibrationView* view) {
+void add_grid_tags(const AprilTagDetector& detector, const cv::Mat& grey, const BoardSpec& board,
+                   CalibrationView* view) {
   const double ideal[4][2] = {{-1, 1}, {1, 1}, {1, -1}, {-1, -1}};
   for (const TagDetection& tag : detector.detect(grey)) {
     if (tag.id >= board.cols * board.rows) continue;
@@ -58,12 +58,12 @@ void add_grid_tags(const AprilTagDetector& detector, const cv::Mat& grey,
 
 }  // namespace
 
-ChessboardSpec parse_board(const std::string& text) {
-  ChessboardSpec board;
+BoardSpec parse_board(const std::string& text) {
+  BoardSpec board;
   board.text = text;
   int consumed = 0;
   if (text.rfind("apriltag:", 0) == 0) {
-    board.kind = ChessboardSpec::Kind::kAprilTagGrid;
+    board.kind = BoardSpec::Kind::kAprilTagGrid;
     if (std::sscanf(text.c_str(), "apriltag:%dx%d:%lf:%lf%n", &board.cols, &board.rows,
                     &board.tag_m, &board.pitch_m, &consumed) != 4 ||
         consumed != static_cast<int>(text.size()))
@@ -88,11 +88,11 @@ ChessboardSpec parse_board(const std::string& text) {
 
 IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names,
                                            const std::vector<cv::Mat>& images,
-                                           const ChessboardSpec& board) {
+                                           const BoardSpec& board) {
   IntrinsicsCalibration result;
   const cv::Size pattern(board.cols, board.rows);
   std::unique_ptr<AprilTagDetector> tag_detector;
-  if (board.kind == ChessboardSpec::Kind::kAprilTagGrid) {
+  if (board.kind == BoardSpec::Kind::kAprilTagGrid) {
     AprilTagDetector::Options options;
     options.family = board.family;
     tag_detector = std::make_unique<AprilTagDetector>(options);
@@ -113,7 +113,7 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
                        std::to_string(grey.rows) + ", the first was " + std::to_string(size.width) +
                        "x" + std::to_string(size.height));
     }
-    if (board.kind == ChessboardSpec::Kind::kChessboard) {
+    if (board.kind == BoardSpec::Kind::kChessboard) {
       view.board_found =
           cv::findChessboardCorners(grey, pattern, view.corners_px,
                                     cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE);
@@ -141,7 +141,7 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
       index.push_back(static_cast<int>(i));
     }
     if (objects.size() < 3) {
-      const std::string what = board.kind == ChessboardSpec::Kind::kChessboard
+      const std::string what = board.kind == BoardSpec::Kind::kChessboard
                                    ? "a " + std::to_string(board.cols) + "x" +
                                          std::to_string(board.rows) + " chessboard (inner corners)"
                                    : "an AprilTag grid (" + board.text + ", 4 tags or more)";

@@ -14,7 +14,7 @@ namespace agv::perception {
 //   apriltag:   a grid of cols x rows tags of the family, ids 0, 1, ... row by row from the top
 //               left, each tag_m across (AprilTag's size), centres pitch_m apart. Any 4 or more
 //               tags of the grid in view make a view.
-struct ChessboardSpec {
+struct BoardSpec {
   enum class Kind { kChessboard, kAprilTagGrid };
   Kind kind = Kind::kChessboard;
   int cols = 9;
@@ -27,7 +27,7 @@ struct ChessboardSpec {
 
 // "chessboard:COLSxROWS:SQUARE_M" (e.g. chessboard:9x6:0.025) or
 // "apriltag:COLSxROWS:TAG_M:PITCH_M" (tag36h11). Throws InputError naming --board.
-ChessboardSpec parse_board(const std::string& text);
+BoardSpec parse_board(const std::string& text);
 
 struct CalibrationView {
   std::string name;
@@ -55,7 +55,7 @@ struct IntrinsicsCalibration {
 // the board (naming what was searched).
 IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names,
                                            const std::vector<cv::Mat>& images,
-                                           const ChessboardSpec& board);
+                                           const BoardSpec& board);
 
 // Where the used views' corners fell: the image area with each view's corners in its own
 // colour and the 5x5 coverage grid (cells without corners shaded).

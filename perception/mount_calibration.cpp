@@ -3,7 +3,6 @@
 #include <cmath>
 #include <map>
 
-#include <yaml-cpp/yaml.h>
 #include <Eigen/Dense>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
@@ -44,62 +43,6 @@ std::array<Eigen::Vector3d, 4> tag_corners_in_vehicle(const FloorTagPose& tag) {
     corners[k] = {tag.x_m + c * lx - s * ly, tag.y_m + s * lx + c * ly, 0.0};
   }
   return corners;
-}
-
-FloorTagsFile load_floor_tags(const std::string& path) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(path);
-  } catch (const YAML::BadFile&) {
-    throw InputError(path + ": cannot be read");
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": not valid YAML: " + e.what());
-  }
-  FloorTagsFile file;
-  if (!root.IsMap()) throw InputError(path + ": expected a map with key 'tags'");
-  for (const auto& item : root) {
-    const std::string key = item.first.as<std::string>();
-    if (key != "family" && key != "tags") throw InputError(path + ": unknown key '" + key + "'");
-  }
-  if (root["family"]) file.family = root["family"].as<std::string>();
-  const YAML::Node tags = root["tags"];
-  if (!tags || !tags.IsSequence() || tags.size() == 0)
-    throw InputError(path + ": key 'tags': expected a non-empty list of tags");
-  for (size_t i = 0; i < tags.size(); ++i) {
-    const std::string where = path + ": tags." + std::to_string(i);
-    const YAML::Node t = tags[i];
-    if (!t.IsMap()) throw InputError(where + ": expected {id, size_m, x_m, y_m, yaw_rad}");
-    auto number = [&](const char* key, double min, double max) {
-      if (!t[key]) throw InputError(where + "." + key + ": missing");
-      double value = 0.0;
-      try {
-        value = t[key].as<double>();
-      } catch (const YAML::Exception&) {
-        throw InputError(where + "." + key + ": expected a number");
-      }
-      if (!std::isfinite(value) || value < min || value > max)
-        throw InputError(where + "." + key + ": must be a number in [" + std::to_string(min) +
-                         ", " + std::to_string(max) + "]");
-      return value;
-    };
-    for (const auto& item : t) {
-      const std::string key = item.first.as<std::string>();
-      if (key != "id" && key != "size_m" && key != "x_m" && key != "y_m" && key != "yaw_rad")
-        throw InputError(where + ": unknown key '" + key + "'");
-    }
-    FloorTagPose tag;
-    tag.id = static_cast<int>(number("id", 0, 1e6));
-    tag.size_m = number("size_m", 1e-3, 10.0);
-    tag.x_m = number("x_m", -100.0, 100.0);
-    tag.y_m = number("y_m", -100.0, 100.0);
-    tag.yaw_rad = t["yaw_rad"] ? number("yaw_rad", -10.0, 10.0) : 0.0;
-    for (const FloorTagPose& other : file.tags) {
-      if (other.id == tag.id)
-        throw InputError(where + ".id: tag " + std::to_string(tag.id) + " listed twice");
-    }
-    file.tags.push_back(tag);
-  }
-  return file;
 }
 
 MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,

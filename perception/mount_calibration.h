@@ -24,13 +24,11 @@ struct FloorTagPose {
 // (z up), the tag's x axis points right and its y axis up, as it is printed.
 std::array<Eigen::Vector3d, 4> tag_corners_in_vehicle(const FloorTagPose& tag);
 
-// TAGS.yaml: `family: tag36h11` (optional) and `tags: [{id, size_m, x_m, y_m, yaw_rad}, ...]`.
-// Throws InputError naming the file and the key.
+// The tags of a mount calibration (TAGS.yaml, read by pipeline::load_floor_tags_file).
 struct FloorTagsFile {
   std::string family = "tag36h11";
   std::vector<FloorTagPose> tags;
 };
-FloorTagsFile load_floor_tags(const std::string& path);
 
 struct MountCalibration {
   MountPose mount;

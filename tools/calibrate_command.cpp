@@ -15,6 +15,7 @@
 #include "perception/camera_file.h"
 #include "perception/intrinsics_calibration.h"
 #include "perception/mount_calibration.h"
+#include "pipeline/floor_tags_file.h"
 
 namespace agv::tools {
 namespace fs = std::filesystem;
@@ -40,6 +41,8 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
                   "from the top left, TAG_M across, centres PITCH_M apart)");
   sub->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
   sub->add_flag("--json", args.json, "Print the result as JSON");
+  sub->callback([&args] { args.command = "intrinsics"; });
+
 
   CLI::App* mount = calibrate->add_subcommand(
       "mount",
@@ -57,6 +60,7 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
   mount->add_option("--camera", args.camera_file, "Camera YAML with the intrinsics")->required();
   mount->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
   mount->add_flag("--json", args.json, "Print the result as JSON");
+  mount->callback([&args] { args.command = "mount"; });
 }
 
 namespace {
@@ -90,7 +94,7 @@ std::string now_text() {
 
 int run_mount(const CalibrateArgs& args) {
   perception::CameraFile camera = perception::load_camera_file(args.camera_file);
-  const perception::FloorTagsFile tags = perception::load_floor_tags(args.tags_file);
+  const perception::FloorTagsFile tags = pipeline::load_floor_tags_file(args.tags_file);
   const std::string folder =
       fs::is_directory(fs::path(args.frames) / "frames") ? args.frames + "/frames" : args.frames;
   std::vector<std::string> names;
@@ -152,8 +156,8 @@ int run_mount(const CalibrateArgs& args) {
 }  // namespace
 
 int run_calibrate(const CalibrateArgs& args) {
-  if (!args.frames.empty()) return run_mount(args);
-  const perception::ChessboardSpec board = perception::parse_board(args.board);
+  if (args.command == "mount") return run_mount(args);
+  const perception::BoardSpec board = perception::parse_board(args.board);
   std::vector<std::string> names;
   std::vector<cv::Mat> images;
   read_images(args.images_dir, &names, &images);

@@ -6,6 +6,7 @@
 namespace agv::tools {
 
 struct CalibrateArgs {
+  std::string command;  // "intrinsics" or "mount": the subcommand given
   std::string images_dir;
   // mount
   std::string frames;  // folder of images, or a dataset folder (its frames/)

@@ -20,7 +20,7 @@ namespace {
 // (rendered frames with sensor noise; a calibration this good on a real camera is typical of
 // 20-30 views, these are noise-light and exact-geometry), RMS under 0.3 px.
 TEST(IntrinsicsCalibration, AprilTagGridOnRenderedViewsRecoversTheIntrinsics) {
-  const ChessboardSpec board = parse_board("apriltag:6x5:0.025:0.035");
+  const BoardSpec board = parse_board("apriltag:6x5:0.025:0.035");
   pipeline::Scene scene;
   scene.seed = 9;
   const double x0 = 0.30 - 2.5 * 0.035, y0 = 2.0 * 0.035;  // grid centred under the camera
