@@ -87,6 +87,17 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
       {"", {{"controler.ts_s", "0.1"}}, {"--set controler.ts_s=0.1", "unknown key"}},
       {"", {{"path_speed_m_s", "2.0"}}, {"path_speed_m_s", "v_forward_max"}},
       {"controller:\n  n_min: 12\n  n_max: 10\n", {}, {"controller.n_min"}},
+      {"frame_faults:\n  - {kind: covered, from_s: 2.0, to_s: 1.0}\n", {}, {"frame_faults.0"}},
+      {"frame_faults:\n  - {kind: smoke, from_s: 1.0, to_s: 2.0}\n", {}, {"frame_faults.0.kind"}},
+      {"",
+       {{"frame_faults.0.kind", "covered"}},
+       {"--set frame_faults.0.kind=covered", "frame_faults"}},
+      {"loop:\n  hangs:\n    - {thread: gpu, at_s: 1.0, for_s: 1.0}\n",
+       {},
+       {"loop.hangs.0.thread"}},
+      {"camera_true_mount: {xyz_m: [0.3, 0.0], rpy_rad: [3.14, 0, 0]}\n",
+       {},
+       {"camera_true_mount.xyz_m"}},
   };
   for (const Case& c : cases) {
     const std::string message = error_of(text(c.yaml), c.overrides);
