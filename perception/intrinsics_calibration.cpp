@@ -38,6 +38,21 @@ double view_rms_px(const std::vector<cv::Point3f>& object, const std::vector<cv:
   return std::sqrt(sum / std::max<size_t>(1, image.size()));
 }
 
+// Which cells of a kGrid x kGrid grid over the image hold a corner of a used view (row-major).
+std::vector<bool> covered_cells(const IntrinsicsCalibration& calibration) {
+  const int w = calibration.intrinsics.width_px, h = calibration.intrinsics.height_px;
+  std::vector<bool> covered(kGrid * kGrid, false);
+  for (const CalibrationView& v : calibration.views) {
+    if (!v.used) continue;
+    for (const cv::Point2f& p : v.corners_px) {
+      const int gx = std::clamp(static_cast<int>(p.x * kGrid / w), 0, kGrid - 1);
+      const int gy = std::clamp(static_cast<int>(p.y * kGrid / h), 0, kGrid - 1);
+      covered[gy * kGrid + gx] = true;
+    }
+  }
+  return covered;
+}
+
 // The corners of the grid's tags found in the image, with their places on the board (x right, y
 // down as printed; a tag's ideal corners (-1, 1), (1, 1), (1, -1), (-1, -1) in detector order).
 void add_grid_tags(const AprilTagDetector& detector, const cv::Mat& grey, const BoardSpec& board,
@@ -180,18 +195,10 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
   }
   if (rejected) rvecs = calibrate(true);
 
-  result.used_views = 0;
-  std::vector<bool> covered(kGrid * kGrid, false);
+  result.used_views = static_cast<int>(std::count_if(
+      result.views.begin(), result.views.end(), [](const CalibrationView& v) { return v.used; }));
+  const std::vector<bool> covered = covered_cells(result);
   bool any_tilted = false;
-  for (const CalibrationView& v : result.views) {
-    if (!v.used) continue;
-    ++result.used_views;
-    for (const cv::Point2f& p : v.corners_px) {
-      const int gx = std::clamp(static_cast<int>(p.x * kGrid / size.width), 0, kGrid - 1);
-      const int gy = std::clamp(static_cast<int>(p.y * kGrid / size.height), 0, kGrid - 1);
-      covered[gy * kGrid + gx] = true;
-    }
-  }
   for (const cv::Mat& rvec : rvecs) {
     cv::Matx33d r;
     cv::Rodrigues(rvec, r);
@@ -221,7 +228,7 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
 cv::Mat coverage_picture(const IntrinsicsCalibration& calibration) {
   const int w = calibration.intrinsics.width_px, h = calibration.intrinsics.height_px;
   cv::Mat picture(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
-  std::vector<bool> covered(kGrid * kGrid, false);
+  const std::vector<bool> covered = covered_cells(calibration);
   int view_index = 0;
   for (const CalibrationView& v : calibration.views) {
     if (!v.used) continue;
@@ -230,8 +237,6 @@ cv::Mat coverage_picture(const IntrinsicsCalibration& calibration) {
     const cv::Vec3b c = bgr.at<cv::Vec3b>(0, 0);
     for (const cv::Point2f& p : v.corners_px) {
       cv::circle(picture, p, 3, cv::Scalar(c[0], c[1], c[2]), cv::FILLED, cv::LINE_AA);
-      covered[std::clamp(static_cast<int>(p.y * kGrid / h), 0, kGrid - 1) * kGrid +
-              std::clamp(static_cast<int>(p.x * kGrid / w), 0, kGrid - 1)] = true;
     }
   }
   for (int gy = 0; gy < kGrid; ++gy) {

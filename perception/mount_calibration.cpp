@@ -59,7 +59,7 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
   std::vector<cv::Point2d> image;
   std::map<int, int> seen;
   MountCalibration result;
-  std::vector<int> frame_of_point;
+
   for (size_t f = 0; f < frames.size(); ++f) {
     bool used = false;
     for (const TagDetection& d : detector.detect(frames[f])) {

@@ -7,8 +7,10 @@
 #include <filesystem>
 #include <numbers>
 #include <opencv2/imgcodecs.hpp>
+#include <utility>
 
 #include "common/angles.h"
+#include "common/statistics.h"
 #include "perception/hough_baseline.h"
 #include "perception/line_estimator.h"
 #include "pipeline/frame_annotation.h"
@@ -129,17 +131,10 @@ double visible_length_m(const control::Path& path, const Pose2& pose,
   return length;
 }
 
-double rms(const std::vector<double>& v) {
-  double sum = 0.0;
-  for (double x : v) sum += x * x;
-  return v.empty() ? 0.0 : std::sqrt(sum / v.size());
-}
-
+// The q-quantile of the magnitudes.
 double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
   for (double& x : v) x = std::abs(x);
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+  return percentile(std::move(v), q);
 }
 
 }  // namespace

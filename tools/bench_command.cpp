@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/angles.h"
+#include "common/statistics.h"
 #include "control/line_tracker.h"
 #include "perception/hough_baseline.h"
 #include "perception/tracking_line_estimator.h"
@@ -26,19 +27,6 @@ using Clock = std::chrono::steady_clock;
 
 double microseconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::micro>(b - a).count();
-}
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const size_t i = std::min(values.size() - 1, static_cast<size_t>(p * (values.size() - 1) + 0.5));
-  return values[i];
-}
-
-double rms(const std::vector<double>& v) {
-  double sum = 0.0;
-  for (double x : v) sum += x * x;
-  return v.empty() ? 0.0 : std::sqrt(sum / v.size());
 }
 
 // Per-frame times and errors against the ground truth of one way of measuring a frame.

@@ -15,6 +15,7 @@
 
 #include "common/angles.h"
 #include "common/input_error.h"
+#include "common/statistics.h"
 #include "pipeline/dataset.h"
 #include "pipeline/frame_annotation.h"
 #include "pipeline/output_folder.h"
@@ -41,12 +42,6 @@ cv::Vec3d parse_colour(const std::string& text) {
     throw InputError("--tape-color-bgr " + text + ": expected three numbers B,G,R (0-255)");
   }
   return {values[0], values[1], values[2]};
-}
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[std::min(values.size() - 1, static_cast<size_t>(p * (values.size() - 1) + 0.5))];
 }
 
 void write_measurements(std::ostream& out, const pipeline::ReplayResult& result, bool has_truth) {
@@ -224,10 +219,8 @@ int run_replay_command(const ReplayArgs& args) {
       err_theta.push_back(wrap_angle_rad(f.measurement.e_theta_rad - f.truth->e_theta_rad));
     }
   }
-  auto rms = [](const std::vector<double>& v) {
-    double sum = 0.0;
-    for (double x : v) sum += x * x;
-    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(std::sqrt(sum / v.size()));
+  auto rms_or_null = [](const std::vector<double>& v) {
+    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(rms(v));
   };
   double mean_ms = 0.0;
   for (double ms : perceive_ms) mean_ms += ms;
@@ -244,8 +237,8 @@ int run_replay_command(const ReplayArgs& args) {
   summary["bad_frames"] = bad_frames;
   summary["frames_with_junction"] = junctions;
   summary["has_ground_truth"] = dataset.has_truth;
-  summary["perception_rms_e_d_m"] = rms(err_d);
-  summary["perception_rms_e_theta_rad"] = rms(err_theta);
+  summary["perception_rms_e_d_m"] = rms_or_null(err_d);
+  summary["perception_rms_e_theta_rad"] = rms_or_null(err_theta);
   summary["frames_tracked"] = result.perception_counts.tracked;
   summary["frames_searched"] = result.perception_counts.searched;
   summary["timing"] = {{"perceive_ms_mean", mean_ms},
@@ -281,10 +274,8 @@ int run_replay_command(const ReplayArgs& args) {
       "frames %zu | lost %d | bad %d | junctions %d | perception rms %s mm / %s deg | %.2f ms per "
       "frame\n",
       result.frames.size(), lost, bad, junctions,
-      err_d.empty() ? "n/a" : std::to_string(1e3 * rms(err_d).get<double>()).substr(0, 5).c_str(),
-      err_theta.empty()
-          ? "n/a"
-          : std::to_string(rad_to_deg(rms(err_theta).get<double>())).substr(0, 5).c_str(),
+      err_d.empty() ? "n/a" : std::to_string(1e3 * rms(err_d)).substr(0, 5).c_str(),
+      err_theta.empty() ? "n/a" : std::to_string(rad_to_deg(rms(err_theta))).substr(0, 5).c_str(),
       mean_ms);
   std::printf("output: %s\n", folder.target().c_str());
   return 0;
