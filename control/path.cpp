@@ -19,7 +19,48 @@ Eigen::Vector2d left_normal(double heading_rad) {
 
 }  // namespace
 
+PathSegment PathSegment::from_hermite(const HermiteCubic& curve) {
+  PathSegment segment;
+  segment.hermite = curve;
+  segment.start = curve.p0;
+  segment.start_heading_rad = std::atan2(curve.d0.y(), curve.d0.x());
+  segment.curvature_1_m = curve.curvature_1_m(0.0);
+  segment.hermite_s_table_m.push_back(0.0);
+  for (int i = 0; i < kHermiteTableSteps; ++i) {
+    segment.hermite_s_table_m.push_back(
+        segment.hermite_s_table_m.back() +
+        curve.length_m(static_cast<double>(i) / kHermiteTableSteps,
+                       static_cast<double>(i + 1) / kHermiteTableSteps));
+  }
+  segment.length_m = segment.hermite_s_table_m.back();
+  return segment;
+}
+
+double PathSegment::hermite_s_at(double u) const {
+  u = std::clamp(u, 0.0, 1.0);
+  const int k = std::min(kHermiteTableSteps - 1, static_cast<int>(u * kHermiteTableSteps));
+  return hermite_s_table_m[k] + hermite->length_m(static_cast<double>(k) / kHermiteTableSteps, u);
+}
+
+double PathSegment::hermite_u_at(double s_m) const {
+  s_m = std::clamp(s_m, 0.0, length_m);
+  const auto it = std::upper_bound(hermite_s_table_m.begin(), hermite_s_table_m.end(), s_m);
+  const int k =
+      std::clamp(static_cast<int>(it - hermite_s_table_m.begin()) - 1, 0, kHermiteTableSteps - 1);
+  const double s0 = hermite_s_table_m[k], s1 = hermite_s_table_m[k + 1];
+  const double u0 = static_cast<double>(k) / kHermiteTableSteps;
+  const double u1 = static_cast<double>(k + 1) / kHermiteTableSteps;
+  double u = s1 > s0 ? u0 + (u1 - u0) * (s_m - s0) / (s1 - s0) : u0;
+  for (int i = 0; i < 3; ++i) {  // Newton on s(u) - s_m, ds/du = |P'(u)|
+    const double speed = hermite->derivative(u).norm();
+    if (speed < 1e-12) break;
+    u = std::clamp(u - (s0 + hermite->length_m(u0, u) - s_m) / speed, u0, u1);
+  }
+  return u;
+}
+
 Eigen::Vector2d PathSegment::point_at(double s_m) const {
+  if (hermite) return hermite->point(hermite_u_at(s_m));
   if (std::abs(curvature_1_m) < kStraightCurvature_1_m) {
     return start + s_m * unit(start_heading_rad);
   }
@@ -29,10 +70,36 @@ Eigen::Vector2d PathSegment::point_at(double s_m) const {
 }
 
 double PathSegment::heading_at(double s_m) const {
+  if (hermite) {
+    const Eigen::Vector2d d = hermite->derivative(hermite_u_at(s_m));
+    return std::atan2(d.y(), d.x());
+  }
   return wrap_angle_rad(start_heading_rad + curvature_1_m * s_m);
 }
 
+double PathSegment::curvature_at(double s_m) const {
+  return hermite ? hermite->curvature_1_m(hermite_u_at(s_m)) : curvature_1_m;
+}
+
 double PathSegment::closest_s(const Eigen::Vector2d& p) const {
+  if (hermite) {
+    // The nearest table point, then Newton on f(u) = |P(u) - p|^2 / 2.
+    double best_u = 0.0, best_d2 = std::numeric_limits<double>::infinity();
+    for (int i = 0; i <= kHermiteTableSteps; ++i) {
+      const double u = static_cast<double>(i) / kHermiteTableSteps;
+      const double d2 = (hermite->point(u) - p).squaredNorm();
+      if (d2 < best_d2) best_d2 = d2, best_u = u;
+    }
+    double u = best_u;
+    for (int i = 0; i < 8; ++i) {
+      const Eigen::Vector2d r = hermite->point(u) - p, d = hermite->derivative(u);
+      const double f1 = r.dot(d), f2 = d.squaredNorm() + r.dot(hermite->second_derivative(u));
+      if (f2 <= 0.0) break;
+      u = std::clamp(u - f1 / f2, 0.0, 1.0);
+    }
+    return hermite_s_at(u);
+  }
+
   if (std::abs(curvature_1_m) < kStraightCurvature_1_m) {
     return std::clamp((p - start).dot(unit(start_heading_rad)), 0.0, length_m);
   }
@@ -69,6 +136,12 @@ Path Path::starting_at(const Pose2& start) {
   return path;
 }
 
+void Path::append(PathSegment segment) {
+  segment_start_s_m_.push_back(total_length_m_);
+  total_length_m_ += segment.length_m;
+  segments_.push_back(std::move(segment));
+}
+
 Pose2 Path::end_pose() const {
   if (segments_.empty()) return start_pose_;
   const PathSegment& last = segments_.back();
@@ -78,9 +151,7 @@ Pose2 Path::end_pose() const {
 Path& Path::add_line(double length_m) {
   assert(length_m > 0.0);
   const Pose2 end = end_pose();
-  segments_.push_back({end.translation(), end.yaw_rad, length_m, 0.0});
-  segment_start_s_m_.push_back(total_length_m_);
-  total_length_m_ += length_m;
+  append({end.translation(), end.yaw_rad, length_m, 0.0, std::nullopt, {}});
   return *this;
 }
 
@@ -89,9 +160,26 @@ Path& Path::add_arc(double radius_m, double angle_rad) {
   const Pose2 end = end_pose();
   const double curvature_1_m = (angle_rad > 0.0 ? 1.0 : -1.0) / radius_m;
   const double length_m = radius_m * std::abs(angle_rad);
-  segments_.push_back({end.translation(), end.yaw_rad, length_m, curvature_1_m});
-  segment_start_s_m_.push_back(total_length_m_);
-  total_length_m_ += length_m;
+  append({end.translation(), end.yaw_rad, length_m, curvature_1_m, std::nullopt, {}});
+  return *this;
+}
+
+Path& Path::add_hermite_arc(double radius_m, double angle_rad, int pieces) {
+  for (const HermiteCubic& piece : hermite_arc_pieces(end_pose(), radius_m, angle_rad, pieces)) {
+    append(PathSegment::from_hermite(piece));
+  }
+  return *this;
+}
+
+Path& Path::add_hermite_to(const Pose2& end) {
+  const Pose2 start = end_pose();
+  const double chord_m = (end.translation() - start.translation()).norm();
+  assert(chord_m > 0.0);
+  append(PathSegment::from_hermite(
+      {start.translation(),
+       chord_m * Eigen::Vector2d(std::cos(start.yaw_rad), std::sin(start.yaw_rad)),
+       end.translation(),
+       chord_m * Eigen::Vector2d(std::cos(end.yaw_rad), std::sin(end.yaw_rad))}));
   return *this;
 }
 
@@ -114,7 +202,9 @@ double Path::heading_at(double s_m) const {
 }
 
 double Path::curvature_at(double s_m) const {
-  return segments_[segment_index_at(std::clamp(s_m, 0.0, total_length_m_))].curvature_1_m;
+  s_m = std::clamp(s_m, 0.0, total_length_m_);
+  const int i = segment_index_at(s_m);
+  return segments_[i].curvature_at(s_m - segment_start_s_m_[i]);
 }
 
 PathProjection Path::project(const Eigen::Vector2d& p, std::optional<double> s_hint_m,
@@ -140,7 +230,7 @@ PathProjection Path::project(const Eigen::Vector2d& p, std::optional<double> s_h
   const PathSegment& segment = segments_[best.segment];
   const double local_s = best.s_m - segment_start_s_m_[best.segment];
   best.heading_rad = segment.heading_at(local_s);
-  best.curvature_1_m = segment.curvature_1_m;
+  best.curvature_1_m = segment.curvature_at(local_s);
   best.distance_m = best_distance_m;
   best.lateral_m = (p - best.point).dot(left_normal(best.heading_rad));
   const double along_m = (p - best.point).dot(unit(best.heading_rad));

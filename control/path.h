@@ -5,23 +5,35 @@
 #include <vector>
 
 #include "common/pose2.h"
+#include "control/hermite_cubic.h"
 
 namespace agv::control {
 
-// One piece of a path: a straight line (curvature 0) or a circular arc of constant signed
-// curvature (left turn positive), starting at `start` with tangent heading `start_heading_rad`.
+// One piece of a path: a straight line (curvature 0), a circular arc of constant signed
+// curvature (left turn positive), starting at `start` with tangent heading `start_heading_rad`,
+// or a cubic Hermite piece (`hermite` set; curvature_1_m then holds its curvature at the start).
 struct PathSegment {
   Eigen::Vector2d start = Eigen::Vector2d::Zero();
   double start_heading_rad = 0.0;
   double length_m = 0.0;
   double curvature_1_m = 0.0;
+  std::optional<HermiteCubic> hermite;
+  std::vector<double> hermite_s_table_m;  // arc length at u = i / kHermiteTableSteps
+
+  static constexpr int kHermiteTableSteps = 64;
+  static PathSegment from_hermite(const HermiteCubic& curve);
 
   Eigen::Vector2d point_at(double s_m) const;
   double heading_at(double s_m) const;
+  double curvature_at(double s_m) const;
   Eigen::Vector2d end() const { return point_at(length_m); }
   double end_heading_rad() const { return heading_at(length_m); }
   // Arc length (clamped to [0, length]) of the closest point of this segment to p.
   double closest_s(const Eigen::Vector2d& p) const;
+
+ private:
+  double hermite_u_at(double s_m) const;  // Hermite parameter at arc length s_m
+  double hermite_s_at(double u) const;    // arc length at Hermite parameter u
 };
 
 // Foot point of a query point on the path: where, which way the path goes there, and the
@@ -54,6 +66,12 @@ class Path {
   static Path starting_at(const Pose2& start);
   Path& add_line(double length_m);
   Path& add_arc(double radius_m, double angle_rad);  // angle > 0 turns left
+  // Seed 004 S1: the same arc as add_arc, as `pieces` cubic Hermite pieces.
+  Path& add_hermite_arc(double radius_m, double angle_rad, int pieces);
+  // A cubic Hermite piece to `end` (position and tangent heading); the tangent vectors at both
+  // ends have the length of the chord. The chord must not be zero.
+  Path& add_hermite_to(const Pose2& end);
+  Pose2 end_pose() const;
 
   const std::vector<PathSegment>& segments() const { return segments_; }
   double length_m() const { return total_length_m_; }
@@ -72,7 +90,7 @@ class Path {
 
  private:
   int segment_index_at(double s_m) const;
-  Pose2 end_pose() const;
+  void append(PathSegment segment);
 
   std::vector<PathSegment> segments_;
   std::vector<double> segment_start_s_m_;

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "common/angles.h"
 #include "common/input_error.h"
 #include "pipeline/yaml_reader.h"
 
@@ -13,6 +14,8 @@ namespace agv::pipeline {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+constexpr double kJointTolerance_m = 1e-3;                 // a stated segment start may be 1 mm
+constexpr double kJointTolerance_rad = kPi / 180.0 / 2.0;  // and half a degree off the path's end
 
 cv::Vec3d colour(const std::vector<double>& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
 std::vector<double> values(const cv::Vec3d& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
@@ -27,16 +30,47 @@ control::Path read_path(YamlReader& in, const std::string& prefix) {
   if (count == 0) return path.add_line(20.0);
   for (size_t i = 0; i < count; ++i) {
     const std::string key = prefix + ".segments." + std::to_string(i) + ".";
-    const std::string kind = in.choice(key + "kind", "line", {"line", "arc"});
+    // A segment may say where it starts: it must be where the path ends so far.
+    if (in.has(key + "start")) {
+      const Pose2 stated{in.number(key + "start.x_m", 0.0, -1e4, 1e4),
+                         in.number(key + "start.y_m", 0.0, -1e4, 1e4),
+                         in.number(key + "start.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
+      const Pose2 end = path.end_pose();
+      const double gap_m = (stated.translation() - end.translation()).norm();
+      const double kink_rad = std::abs(wrap_angle_rad(stated.yaw_rad - end.yaw_rad));
+      if (gap_m > kJointTolerance_m || kink_rad > kJointTolerance_rad) {
+        char text[256];
+        std::snprintf(text, sizeof(text),
+                      "the joints must be continuous: the path so far ends at (%.4f, %.4f) m "
+                      "heading %.2f deg, %.1f mm and %.2f deg away",
+                      end.x_m, end.y_m, rad_to_deg(end.yaw_rad), 1e3 * gap_m, rad_to_deg(kink_rad));
+        throw InputError(in.origin(key + "start") + ": key '" + key + "start': " + text);
+      }
+    }
+    const std::string kind =
+        in.choice(key + "kind", "line", {"line", "arc", "hermite_arc", "hermite"});
     if (kind == "line") {
       path.add_line(in.positive(key + "length_m", 1.0, 1e4));
+    } else if (kind == "hermite") {
+      const Pose2 end{in.number(key + "end.x_m", 0.0, -1e4, 1e4),
+                      in.number(key + "end.y_m", 0.0, -1e4, 1e4),
+                      in.number(key + "end.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
+      if ((end.translation() - path.end_pose().translation()).norm() < 1e-4)
+        throw InputError(in.origin(key + "end") + ": key '" + key +
+                         "end': must lie away from the segment's start (zero-length segment)");
+      path.add_hermite_to(end);
     } else {
       const double radius_m = in.positive(key + "radius_m", 0.5, 1e4);
-      const double angle_rad = in.number(key + "angle_rad", kPi / 2, -2 * kPi, 2 * kPi);
+      const double limit_rad = kind == "arc" ? 2 * kPi : kPi / 2;  // seed 004 S1: <= 90 deg
+      const double angle_rad = in.number(key + "angle_rad", kPi / 2, -limit_rad, limit_rad);
       if (angle_rad == 0.0)
         throw InputError(in.origin(key + "angle_rad") + ": key '" + key +
                          "angle_rad': must not be 0");
-      path.add_arc(radius_m, angle_rad);
+      if (kind == "arc") {
+        path.add_arc(radius_m, angle_rad);
+      } else {
+        path.add_hermite_arc(radius_m, angle_rad, in.integer(key + "pieces", 2, 1, 64));
+      }
     }
   }
   return path;

@@ -3,10 +3,43 @@
 #include <algorithm>
 #include <numbers>
 
+#include "common/angles.h"
+
 namespace agv::pipeline {
 namespace {
 
 constexpr double kArcPieceMax_rad = std::numbers::pi / 2.0;
+// Hermite pieces are drawn as arcs this long at most, each through the curve's points and
+// tangent at its start: the drawn line strays less than a micrometre from the curve.
+constexpr double kHermiteDrawStep_m = 0.01;
+
+// The part [s0, s1] of a segment as a line or an arc (a Hermite part as the arc that leaves its
+// start point along the curve's tangent and ends at its end point).
+void shape_piece(const control::PathSegment& segment, double s0, double s1, WorldPiece* piece) {
+  piece->start = segment.point_at(s0);
+  piece->end = segment.point_at(s1);
+  piece->heading_rad = segment.heading_at(s0);
+  piece->length_m = s1 - s0;
+  double curvature_1_m = segment.curvature_1_m;
+  if (segment.hermite) {
+    const Eigen::Vector2d chord = piece->end - piece->start;
+    const double chord_heading = std::atan2(chord.y(), chord.x());
+    const double half_turn_rad = wrap_angle_rad(chord_heading - piece->heading_rad);
+    curvature_1_m = 2.0 * std::sin(half_turn_rad) / chord.norm();
+    if (std::abs(curvature_1_m) <= 1e-9)
+      piece->heading_rad = chord_heading;
+    else
+      piece->length_m = 2.0 * std::abs(half_turn_rad) / std::abs(curvature_1_m);
+  }
+  piece->is_arc = std::abs(curvature_1_m) > 1e-9;
+  if (piece->is_arc) {
+    piece->radius_m = 1.0 / std::abs(curvature_1_m);
+    piece->turn_sign = curvature_1_m > 0.0 ? 1.0 : -1.0;
+    const double h = piece->heading_rad;
+    piece->centre = piece->start +
+                    piece->turn_sign * piece->radius_m * Eigen::Vector2d(-std::sin(h), std::cos(h));
+  }
+}
 
 }  // namespace
 
@@ -35,27 +68,17 @@ std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes) {
       for (const auto& [from, to] : laid) {
         const double a = std::max(from, segment_start_s), b = std::min(to, segment_end_s);
         if (b - a <= 1e-9) continue;
-        const bool is_arc = std::abs(segment.curvature_1_m) > 1e-12;
         const double sweep_rad = std::abs(segment.curvature_1_m) * (b - a);
         const int parts =
-            is_arc ? std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad))) : 1;
+            segment.hermite
+                ? static_cast<int>(std::ceil((b - a) / kHermiteDrawStep_m))
+                : std::max(1, static_cast<int>(std::ceil(sweep_rad / kArcPieceMax_rad)));
         for (int p = 0; p < parts; ++p) {
           const double s0 = a - segment_start_s + (b - a) * p / parts;
           const double s1 = a - segment_start_s + (b - a) * (p + 1) / parts;
           WorldPiece piece;
           piece.strip = strip;
-          piece.is_arc = is_arc;
-          piece.start = segment.point_at(s0);
-          piece.end = segment.point_at(s1);
-          piece.heading_rad = segment.heading_at(s0);
-          piece.length_m = s1 - s0;
-          if (is_arc) {
-            piece.radius_m = 1.0 / std::abs(segment.curvature_1_m);
-            piece.turn_sign = segment.curvature_1_m > 0.0 ? 1.0 : -1.0;
-            const double h = piece.heading_rad;
-            piece.centre = piece.start + piece.turn_sign * piece.radius_m *
-                                             Eigen::Vector2d(-std::sin(h), std::cos(h));
-          }
+          shape_piece(segment, s0, s1, &piece);
           // Cut square where the tape starts, ends or is interrupted; rounded at joints.
           piece.flat_start = p == 0 && std::abs(a - from) < 1e-9;
           piece.flat_end = p == parts - 1 && std::abs(b - to) < 1e-9;

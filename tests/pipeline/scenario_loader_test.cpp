@@ -98,6 +98,23 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
       {"camera_true_mount: {xyz_m: [0.3, 0.0], rpy_rad: [3.14, 0, 0]}\n",
        {},
        {"camera_true_mount.xyz_m"}},
+      // Bad paths: a zero-length line, a radius of 0, a Hermite turn over 90 deg, a segment
+      // whose stated start is not where the path ends, a Hermite piece to its own start.
+      {"path:\n  segments:\n    - {kind: line, length_m: 0.0}\n", {}, {"path.segments.0.length_m"}},
+      {"path:\n  segments:\n    - {kind: arc, radius_m: 0, angle_rad: 1.0}\n",
+       {},
+       {"path.segments.0.radius_m"}},
+      {"path:\n  segments:\n    - {kind: hermite_arc, radius_m: 0.5, angle_rad: 2.0}\n",
+       {},
+       {"path.segments.0.angle_rad"}},
+      {"path:\n  segments:\n    - {kind: line, length_m: 1.0}\n    - {kind: line, "
+       "length_m: 1.0, start: {x_m: 1.0, y_m: 0.02, heading_rad: 0.0}}\n",
+       {},
+       {"path.segments.1.start", "continuous", "20.0 mm"}},
+      {"path:\n  segments:\n    - {kind: hermite, end: {x_m: 0.0, y_m: 0.0, heading_rad: 1.0}}\n",
+       {},
+       {"path.segments.0.end", "zero-length"}},
+
   };
   for (const Case& c : cases) {
     const std::string message = error_of(text(c.yaml), c.overrides);
