@@ -1,5 +1,7 @@
 #pragma once
 
+#include <limits>
+
 namespace agv {
 
 // What perception reports about the guide line in one frame, in the conventions of
@@ -16,6 +18,9 @@ struct LineMeasurement {
   double tape_width_m = 0.0;    // measured width of the tape
   int lines_seen = 0;           // guide lines in view (junctions, forks, crossings: more than 1)
   bool junction_ahead = false;  // lines meet in view
+  // Pose input only (controller.input: pose): arc length from the foot point to the end of
+  // the path, negative past it. A camera cannot see it: infinite.
+  double path_remaining_m = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace agv

@@ -45,7 +45,7 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
     const bool late = now_s - *last_arrival_s_ > options_.ts_s + kTimeSlack_s;
     if (line_lost_ || late) out.flags |= kHolding;
     TrackingEstimate estimate{last_good_->e_theta_rad, last_good_->e_d_m, last_good_->curvature_1_m,
-                              now_s - last_good_->stamp_s};
+                              now_s - last_good_->stamp_s, last_good_->path_remaining_m};
     if (options_.latency_compensation) {
       const TrackingError predicted =
           history_.predict({estimate.e_theta_rad, estimate.e_d_m}, estimate.curvature_1_m,

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <string>
 
 #include "common/body_twist.h"
@@ -13,6 +14,9 @@ struct TrackingEstimate {
   double e_d_m = 0.0;
   double curvature_1_m = 0.0;  // path curvature at the foot point, left turn positive
   double age_s = 0.0;          // age of the measurement it came from (before prediction)
+  // Arc length from the foot point to the end of the path (negative past it); infinite when
+  // the input cannot see the end (a camera: the tape's end shows as line loss).
+  double remaining_m = std::numeric_limits<double>::infinity();
 };
 
 // What a controller needs to know besides the error, once per control period.

@@ -42,15 +42,40 @@ class TruthTracker {
  public:
   TruthTracker(const control::Path& path, double start_s_m) : path_(path), s_m_(start_s_m) {}
   control::TrackingError operator()(const Pose2& pose) {
-    const control::PathProjection foot = path_.project(pose.translation(), s_m_, 0.5);
-    s_m_ = foot.s_m;
-    return path_.tracking_error(pose, foot);
+    foot_ = path_.project(pose.translation(), s_m_, 0.5);
+    s_m_ = foot_.s_m;
+    return path_.tracking_error(pose, foot_);
+  }
+  // What localisation tells the controller (controller.input: pose): the true errors of the
+  // last pose, the curvature at its foot point and the arc length left to the path's end.
+  LineMeasurement pose_measurement(const Pose2& pose, double t_s) {
+    const control::TrackingError e = (*this)(pose);
+    LineMeasurement m;
+    m.stamp_s = t_s;
+    m.line_found = true;
+    m.e_theta_rad = e.e_theta_rad;
+    m.e_d_m = e.e_d_m;
+    m.curvature_1_m = foot_.curvature_1_m;
+    m.confidence = 1.0;
+    m.lines_seen = 1;
+    const Eigen::Vector2d tangent(std::cos(foot_.heading_rad), std::sin(foot_.heading_rad));
+    const double past_end_m =
+        foot_.after_end ? (pose.translation() - foot_.point).dot(tangent) : 0.0;
+    m.path_remaining_m = path_.length_m() - foot_.s_m - past_end_m;
+    return m;
   }
 
  private:
   const control::Path& path_;
   double s_m_;
+  control::PathProjection foot_;
 };
+
+Plant make_plant(const Scenario& s) {
+  Plant::Options options{s.vehicle.actuator_lag_s, std::nullopt};
+  if (s.vehicle.kind == "dual_steer") options.dual_steer = s.vehicle.dual_steer;
+  return Plant(start_pose(s), start_twist(s), options);
+}
 
 TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose,
                   const control::TrackingError& truth,
@@ -67,6 +92,8 @@ TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose,
   }
   row.output = output;
   row.wheels_rad_s = control::mecanum_inverse(s.vehicle.mecanum, output.command);
+  row.front_wheel = pose.transform({s.vehicle.front_track_x_m(), 0.0});
+  row.rear_wheel = pose.transform({s.vehicle.rear_track_x_m(), 0.0});
   row.violations =
       control::check_limits(output.command, previous_command, s.vehicle.limits, s.controller.ts_s);
   return row;
@@ -80,7 +107,7 @@ control::LineTracker make_tracker(const Scenario& s) {
   options.path_speed_m_s = s.path_speed_m_s;
   options.line_lost_hold_s = s.controller.line_lost_hold_s;
   options.latency_compensation = s.controller.latency_compensation;
-  return control::LineTracker(make_controller(s.controller), s.vehicle.limits, options,
+  return control::LineTracker(make_controller(s.controller, s.vehicle), s.vehicle.limits, options,
                               start_twist(s));
 }
 
@@ -89,8 +116,34 @@ perception::CameraModel render_camera(const Scenario& s) {
   return perception::CameraModel(s.camera.intrinsics, *s.true_mount);
 }
 
-std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config) {
+std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config,
+                                                         const VehicleConfig& vehicle) {
   if (config.kind == "pid") return std::make_unique<control::PidController>(config.pid);
+  if (config.kind == "seed004_ff_p") {
+    control::Seed004Controller::Options options = config.seed004;
+    if (vehicle.kind == "mecanum") {
+      options.mecanum = vehicle.mecanum;
+      options.wheel_limits = vehicle.mecanum_wheels;
+    }
+    return std::make_unique<control::Seed004Controller>(options);
+  }
+  if (config.kind == "dwa" || config.kind == "improved_dwa") {
+    control::DwaController::Options options = config.dwa;
+    options.improved = config.kind == "improved_dwa";
+    options.front_wheel_x_m = vehicle.front_track_x_m();
+    options.rear_wheel_x_m = vehicle.rear_track_x_m();
+    if (vehicle.kind == "dual_steer") {
+      options.max_wheel_speed_m_s = vehicle.dual_steer.max_wheel_speed_m_s;
+      options.max_steer_rad = vehicle.dual_steer.max_steer_rad;
+      options.front_steers = vehicle.dual_steer.front_steers();
+      options.rear_steers = vehicle.dual_steer.rear_steers();
+    } else {  // Mecanum wheels do not steer; their rims turn at most this fast
+      options.max_wheel_speed_m_s =
+          vehicle.mecanum_wheels.max_wheel_speed_rad_s * vehicle.mecanum.wheel_radius_m;
+      options.front_steers = options.rear_steers = false;
+    }
+    return std::make_unique<control::DwaController>(options);
+  }
   return std::make_unique<control::FiniteStepController>(config.finite_step);
 }
 
@@ -100,9 +153,10 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
   const FrameRenderer renderer(render_camera(s), render_scene(s));
   perception::TrackingLineEstimator estimator(camera, perception_options(s));
   control::LineTracker tracker = make_tracker(s);
-  Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
+  Plant plant = make_plant(s);
   TruthTracker truth_of(s.path, s.start_s_m);
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, QueuePolicy::kDropOldest);
+  const bool pose_input = s.controller.input == "pose";
   const double setup_wall_s = seconds_since(wall_start);
   std::deque<StampedMeasurement> in_flight;  // taken, not yet delivered (latency)
 
@@ -119,15 +173,20 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
     const control::TrackingError truth = truth_of(pose);
 
     Clock::time_point t0 = Clock::now();
-    renderer.render_into(pose, plant.twist(), static_cast<std::uint64_t>(k), &frame);
-    apply_frame_faults(s.frame_faults, t, static_cast<std::uint64_t>(k), &frame);
-    Clock::time_point t1 = Clock::now();
-    StampedMeasurement stamped{estimator.measure(frame, t), truth, static_cast<std::uint64_t>(k)};
-    Clock::time_point t2 = Clock::now();
-    result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
-    result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();
-    result.frames.push_back({stamped.frame_index, t, truth, stamped.measurement});
-    if (sink) sink(result.frames.back(), pose, frame);
+    StampedMeasurement stamped{{}, truth, static_cast<std::uint64_t>(k)};
+    if (pose_input) {
+      stamped.measurement = truth_of.pose_measurement(pose, t);
+    } else {
+      renderer.render_into(pose, plant.twist(), static_cast<std::uint64_t>(k), &frame);
+      apply_frame_faults(s.frame_faults, t, static_cast<std::uint64_t>(k), &frame);
+      Clock::time_point t1 = Clock::now();
+      stamped.measurement = estimator.measure(frame, t);
+      Clock::time_point t2 = Clock::now();
+      result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
+      result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();
+      result.frames.push_back({stamped.frame_index, t, truth, stamped.measurement});
+      if (sink) sink(result.frames.back(), pose, frame);
+    }
 
     in_flight.push_back(stamped);
     while (!in_flight.empty() &&
@@ -172,9 +231,10 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
 
   // State shared by the two threads: the pose at the last control tick and the twist since.
   std::mutex state_mutex;
-  Plant plant(start_pose(s), start_twist(s), Plant::Options{s.vehicle.actuator_lag_s});
+  Plant plant = make_plant(s);
   double tick_s = 0.0;
   BodyTwist active_command = start_twist(s);
+  const bool pose_input = s.controller.input == "pose";
 
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, s.loop.queue_policy);
   std::atomic<bool> stop{false};
@@ -210,17 +270,23 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
       BodyTwist twist;
       {
         std::lock_guard<std::mutex> lock(state_mutex);
-        pose = integrate_twist(plant.pose(), active_command, std::max(0.0, t - tick_s));
-        twist = active_command;
+        // The wheels' twist (dual steer) or the command, held since the last tick.
+        twist = s.vehicle.kind == "dual_steer" ? plant.twist() : active_command;
+        pose = integrate_twist(plant.pose(), twist, std::max(0.0, t - tick_s));
       }
       const control::TrackingError truth = truth_of(pose);
       Clock::time_point t0 = Clock::now();
-      renderer.render_into(pose, twist, i, &frame);
-      apply_frame_faults(s.frame_faults, t, i, &frame);
+      StampedMeasurement stamped{{}, truth, i};
+      if (pose_input) {
+        stamped.measurement = truth_of.pose_measurement(pose, t);
+      } else {
+        renderer.render_into(pose, twist, i, &frame);
+        apply_frame_faults(s.frame_faults, t, i, &frame);
+      }
       Clock::time_point t1 = Clock::now();
-      StampedMeasurement stamped{estimator.measure(frame, t), truth, i};
+      if (!pose_input) stamped.measurement = estimator.measure(frame, t);
       Clock::time_point t2 = Clock::now();
-      {
+      if (!pose_input) {
         std::lock_guard<std::mutex> lock(frames_mutex);
         result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
         result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();

@@ -34,6 +34,9 @@ struct TraceRow {
   double measurement_age_s = 0.0;
   control::TrackerOutput output;  // command, flags, what the controller acted on
   control::MecanumWheelSpeeds wheels_rad_s = control::MecanumWheelSpeeds::Zero();
+  // World positions of the wheel centres on the centre line (VehicleConfig::*_track_x_m).
+  Eigen::Vector2d front_wheel = Eigen::Vector2d::Zero();
+  Eigen::Vector2d rear_wheel = Eigen::Vector2d::Zero();
   std::uint32_t violations = 0;  // control::LimitViolation bits of the command
 };
 
@@ -70,7 +73,9 @@ using Progress = std::function<void(double)>;
 using FrameSink =
     std::function<void(const FrameRecord& record, const Pose2& pose, const cv::Mat& frame)>;
 
-std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config);
+// The controller the config names, with what it needs to know of the vehicle.
+std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config,
+                                                         const VehicleConfig& vehicle);
 // The camera that takes the frames: the camera file's, or its intrinsics with the true mount.
 perception::CameraModel render_camera(const Scenario& scenario);
 // The scenario's controller inside a LineTracker (limits, line-loss hold), started at its twist.

@@ -20,7 +20,31 @@ Pose2 integrate_twist(const Pose2& start, const BodyTwist& twist, double dt_s) {
   return start.compose({dx, dy, angle});
 }
 
+Plant::Plant(const Pose2& start, const BodyTwist& start_twist, const Options& options)
+    : pose_(start), twist_(start_twist), options_(options) {
+  if (options_.dual_steer) {
+    wheels_ = control::dual_steer_inverse(*options_.dual_steer, start_twist);
+    twist_ = control::dual_steer_forward(*options_.dual_steer, wheels_);
+  }
+}
+
+void Plant::step_dual_steer(const BodyTwist& command, double dt_s) {
+  const control::DualSteerGeometry& geometry = *options_.dual_steer;
+  const control::DualSteerWheels target = control::dual_steer_inverse(geometry, command);
+  const int substeps = std::max(1, static_cast<int>(std::ceil(dt_s / 0.005)));
+  const double h = dt_s / substeps;
+  for (int i = 0; i < substeps; ++i) {
+    wheels_ = control::advance_dual_steer(geometry, wheels_, target, h);
+    twist_ = control::dual_steer_forward(geometry, wheels_);
+    pose_ = integrate_twist(pose_, twist_, h);
+  }
+}
+
 void Plant::step(const BodyTwist& command, double dt_s) {
+  if (options_.dual_steer) {
+    step_dual_steer(command, dt_s);
+    return;
+  }
   if (options_.actuator_lag_s <= 0.0) {
     twist_ = command;
     pose_ = integrate_twist(pose_, twist_, dt_s);

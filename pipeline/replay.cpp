@@ -69,8 +69,8 @@ ReplayResult run_replay(const Dataset& dataset, const ReplayOptions& options,
   tracker_options.path_speed_m_s = options.path_speed_m_s;
   tracker_options.line_lost_hold_s = controller.line_lost_hold_s;
   tracker_options.latency_compensation = controller.latency_compensation;
-  control::LineTracker tracker(make_controller(controller), options.limits, tracker_options,
-                               BodyTwist{options.path_speed_m_s, 0.0, 0.0});
+  control::LineTracker tracker(make_controller(controller, VehicleConfig{}), options.limits,
+                               tracker_options, BodyTwist{options.path_speed_m_s, 0.0, 0.0});
   result.controller_name = tracker.controller().name();
 
   perception::LineDetection detection;

@@ -4,10 +4,13 @@
 #include <optional>
 #include <string>
 
+#include "control/dual_steer_kinematics.h"
+#include "control/dwa_controller.h"
 #include "control/finite_step_controller.h"
 #include "control/mecanum_kinematics.h"
 #include "control/path.h"
 #include "control/pid_controller.h"
+#include "control/seed004_controller.h"
 #include "control/vehicle_limits.h"
 #include "perception/camera_file.h"
 #include "perception/line_estimator.h"
@@ -27,17 +30,35 @@ struct FloorMarks {
 };
 
 struct VehicleConfig {
-  std::string kind = "mecanum";
+  std::string kind = "mecanum";  // mecanum | dual_steer
   control::MecanumGeometry mecanum;
+  control::WheelLimits mecanum_wheels;    // mecanum: what seed 004's wheel protection keeps to
+  control::DualSteerGeometry dual_steer;  // dual_steer: form, wheelbase, steer and wheel limits
   control::VehicleLimits limits;
   double actuator_lag_s = 0.0;
+
+  // The wheel centres on the vehicle's centre line whose tracks make the coverage area, x in
+  // the vehicle frame: the dual steering wheels, or a Mecanum vehicle's axle centres.
+  double front_track_x_m() const {
+    return kind == "dual_steer" ? dual_steer.front_x_m() : mecanum.half_wheelbase_m;
+  }
+  double rear_track_x_m() const {
+    return kind == "dual_steer" ? dual_steer.rear_x_m() : -mecanum.half_wheelbase_m;
+  }
 };
 
 struct ControllerConfig {
-  std::string kind = "finite_step";  // finite_step | pid
+  std::string kind = "finite_step";  // finite_step | pid | seed004_ff_p | dwa | improved_dwa
+  // Where the tracking error comes from: the camera (perception of rendered frames) or the
+  // vehicle's pose (localisation, the patent's world frame; no frames are rendered).
+  std::string input = "camera";
   double ts_s = 0.1;
   control::FiniteStepController::Options finite_step;
   control::PidController::Options pid;
+  control::Seed004Controller::Options seed004;  // its wheel fields come from the vehicle
+  control::DwaController::Options dwa;          // its improved and wheel fields come from the
+                                                //   kind and the vehicle
+
   double line_lost_hold_s = 0.3;
   bool latency_compensation = true;
 };

@@ -287,7 +287,7 @@ Scenario load_scenario(const ScenarioText& source,
   }
 
   VehicleConfig& v = s.vehicle;
-  v.kind = in.choice("vehicle.kind", v.kind, {"mecanum"});
+  v.kind = in.choice("vehicle.kind", v.kind, {"mecanum", "dual_steer"});
   v.mecanum.wheel_radius_m = in.positive("vehicle.wheel_radius_m", v.mecanum.wheel_radius_m, 1.0);
   v.mecanum.half_wheelbase_m =
       in.positive("vehicle.half_wheelbase_m", v.mecanum.half_wheelbase_m, 5.0);
@@ -301,13 +301,44 @@ Scenario load_scenario(const ScenarioText& source,
   v.limits.alpha_max_rad_s2 =
       in.positive("vehicle.alpha_max_rad_s2", v.limits.alpha_max_rad_s2, 200.0);
   v.actuator_lag_s = in.number("vehicle.actuator_lag_s", v.actuator_lag_s, 0.0, 2.0);
+  v.mecanum_wheels.max_wheel_speed_rad_s =
+      in.positive("vehicle.max_wheel_speed_rad_s", v.mecanum_wheels.max_wheel_speed_rad_s, 10000.0);
+  v.mecanum_wheels.max_wheel_accel_rad_s2 =
+      in.positive("vehicle.max_wheel_accel_rad_s2", v.mecanum_wheels.max_wheel_accel_rad_s2, 1e5);
+  control::DualSteerGeometry& ds = v.dual_steer;
+  const std::string form =
+      in.choice("vehicle.drive_form", "both_steer", {"both_steer", "rear_drive", "front_drive"});
+  ds.form = form == "rear_drive"    ? control::DriveForm::kRearDriveFront
+            : form == "front_drive" ? control::DriveForm::kFrontDriveRear
+                                    : control::DriveForm::kBothSteer;
+  ds.wheelbase_m = in.positive("vehicle.wheelbase_m", ds.wheelbase_m, 20.0);
+  ds.max_steer_rad = in.positive("vehicle.max_steer_rad", ds.max_steer_rad, kPi / 2 + 1e-9);
+  ds.max_steer_rate_rad_s =
+      in.positive("vehicle.max_steer_rate_rad_s", ds.max_steer_rate_rad_s, 100.0);
+  ds.max_wheel_speed_m_s = in.positive("vehicle.max_wheel_speed_m_s", ds.max_wheel_speed_m_s, 20.0);
   if (s.path_speed_m_s > v.limits.v_forward_max_m_s) {
     throw InputError(in.origin("path_speed_m_s") + ": key 'path_speed_m_s': " +
                      std::to_string(s.path_speed_m_s) + " m/s is above vehicle.v_forward_max_m_s");
   }
+  // The wheels must be able to carry the vehicle along the path at path speed.
+  const double path_wheel_need =
+      v.kind == "dual_steer" ? s.path_speed_m_s : s.path_speed_m_s / v.mecanum.wheel_radius_m;
+  const std::string wheel_key =
+      v.kind == "dual_steer" ? "vehicle.max_wheel_speed_m_s" : "vehicle.max_wheel_speed_rad_s";
+  const double wheel_limit =
+      v.kind == "dual_steer" ? ds.max_wheel_speed_m_s : v.mecanum_wheels.max_wheel_speed_rad_s;
+  if (path_wheel_need > wheel_limit) {
+    char text[200];
+    std::snprintf(text, sizeof(text),
+                  ": key '%s': %.3g is below the %.3g that path_speed_m_s %.3g m/s needs",
+                  wheel_key.c_str(), wheel_limit, path_wheel_need, s.path_speed_m_s);
+    throw InputError(in.origin(wheel_key) + text);
+  }
 
   ControllerConfig& c = s.controller;
-  c.kind = in.choice("controller.kind", c.kind, {"finite_step", "pid"});
+  c.kind = in.choice("controller.kind", c.kind,
+                     {"finite_step", "pid", "seed004_ff_p", "dwa", "improved_dwa"});
+  c.input = in.choice("controller.input", c.input, {"camera", "pose"});
   c.ts_s = in.number("controller.ts_s", c.ts_s, 0.001, 1.0);
   c.finite_step.a_max_m_s2 = in.positive("controller.a_max_m_s2", c.finite_step.a_max_m_s2, 50.0);
   c.finite_step.v_x_max_m_s =
@@ -331,6 +362,21 @@ Scenario load_scenario(const ScenarioText& source,
   c.pid.kp_theta_1_s = in.number("controller.pid.kp_theta_1_s", c.pid.kp_theta_1_s, 0.0, 100.0);
   c.pid.ki_theta_1_s2 = in.number("controller.pid.ki_theta_1_s2", c.pid.ki_theta_1_s2, 0.0, 100.0);
   c.pid.kd_theta = in.number("controller.pid.kd_theta", c.pid.kd_theta, 0.0, 100.0);
+  control::Seed004Controller::Options& f = c.seed004;
+  f.k_along_1_s = in.number("controller.seed004.k_along_1_s", f.k_along_1_s, 0.0, 100.0);
+  f.k_lateral_1_s = in.number("controller.seed004.k_lateral_1_s", f.k_lateral_1_s, 0.0, 100.0);
+  f.k_heading_1_s = in.number("controller.seed004.k_heading_1_s", f.k_heading_1_s, 0.0, 100.0);
+  f.end_decel_m_s2 = in.positive("controller.seed004.end_decel_m_s2", f.end_decel_m_s2, 50.0);
+  f.end_hold_m = in.number("controller.seed004.end_hold_m", f.end_hold_m, 0.0, 10.0);
+  control::DwaController::Options& d = c.dwa;
+  d.v_samples = in.integer("controller.dwa.v_samples", d.v_samples, 1, 1000);
+  d.w_samples = in.integer("controller.dwa.w_samples", d.w_samples, 1, 1000);
+  d.horizon_s = in.positive("controller.dwa.horizon_s", d.horizon_s, 60.0);
+  d.lookahead_m = in.positive("controller.dwa.lookahead_m", d.lookahead_m, 100.0);
+  d.weight_heading = in.number("controller.dwa.weight_heading", d.weight_heading, 0.0, 1e3);
+  d.weight_clearance = in.number("controller.dwa.weight_clearance", d.weight_clearance, 0.0, 1e3);
+  d.weight_speed = in.number("controller.dwa.weight_speed", d.weight_speed, 0.0, 1e3);
+  d.weight_area = in.number("controller.dwa.weight_area", d.weight_area, 0.0, 1e3);
 
   s.metrics.settle_band_e_d_m =
       in.positive("metrics.settle_band_e_d_m", s.metrics.settle_band_e_d_m, 1.0);

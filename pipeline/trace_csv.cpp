@@ -9,7 +9,7 @@ void write_trace_csv(std::ostream& out, const RunResult& run) {
          "meas_confidence,meas_age_s,used_e_theta_rad,used_e_d_m,cmd_vx_m_s,cmd_vy_m_s,cmd_wz_rad_"
          "s,"
          "wheel_fl_rad_s,wheel_fr_rad_s,wheel_rl_rad_s,wheel_rr_rad_s,horizon_steps,flags,"
-         "violations\n";
+         "violations,front_wheel_x_m,front_wheel_y_m,rear_wheel_x_m,rear_wheel_y_m\n";
   out << std::setprecision(9);
   for (const TraceRow& r : run.rows) {
     out << r.t_s << ',' << r.pose.x_m << ',' << r.pose.y_m << ',' << r.pose.yaw_rad << ','
@@ -29,7 +29,9 @@ void write_trace_csv(std::ostream& out, const RunResult& run) {
     const BodyTwist& c = r.output.command;
     out << c.vx_m_s << ',' << c.vy_m_s << ',' << c.wz_rad_s << ',' << r.wheels_rad_s[0] << ','
         << r.wheels_rad_s[1] << ',' << r.wheels_rad_s[2] << ',' << r.wheels_rad_s[3] << ','
-        << r.output.horizon_steps << ',' << r.output.flags << ',' << r.violations << '\n';
+        << r.output.horizon_steps << ',' << r.output.flags << ',' << r.violations << ','
+        << r.front_wheel.x() << ',' << r.front_wheel.y() << ',' << r.rear_wheel.x() << ','
+        << r.rear_wheel.y() << '\n';
   }
 }
 

@@ -115,7 +115,7 @@ void add_replay_command(CLI::App& app, ReplayArgs& args) {
   sub->add_option("dataset", args.dataset, "Dataset folder or video file")->required();
   sub->add_option("--camera", args.camera, "Camera YAML (default: the dataset's camera.yaml)");
   sub->add_option("--controller", args.controller, "Controller whose commands to compute")
-      ->check(CLI::IsMember({"finite_step", "pid"}));
+      ->check(CLI::IsMember({"finite_step", "pid", "seed004_ff_p", "dwa", "improved_dwa"}));
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
   sub->add_flag("--skip-bad-frames", args.skip_bad_frames,
                 "Count unreadable or wrong-sized frames, report them in summary.json and go on "

@@ -47,7 +47,7 @@ TEST(Plant, StraightMotionWithoutTurning) {
 
 // First-order lag: after one time constant the twist has covered 1 - 1/e of the step.
 TEST(Plant, ActuatorLagIsFirstOrder) {
-  Plant plant({0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, Plant::Options{0.05});
+  Plant plant({0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, Plant::Options{0.05, std::nullopt});
   plant.step({0.0, 0.1, 0.0}, 0.05);
   EXPECT_NEAR(plant.twist().vy_m_s, 0.1 * (1.0 - std::exp(-1.0)), 1e-12);
   // Distance covered is the integral of 0.1 (1 - exp(-t / tau)) over one tau: 0.1 tau / e.

@@ -1,0 +1,67 @@
+#pragma once
+
+#include <numbers>
+
+#include "control/path_controller.h"
+
+namespace agv::control {
+
+// Dynamic window approach for path tracking, plain or with seed 002's improvements. Every
+// period it samples (v, w) inside the window that the vehicle limits (speed, acceleration over
+// one period) and the stopping distance to the path's end (v <= sqrt(2 a remaining)) allow,
+// rolls each out for horizon_s at constant (v, w), and scores it by
+//   G = w_heading * head + w_clearance * clearance + w_speed * speed + w_area * area,
+// each term normalised to [0, 1] by its range over the candidates (seed 002's sigma; a share
+// of the sum, the classic form, lets a term that varies little among the candidates drown the
+// others):
+//   head:      pi - |angle between the rolled-out heading and the direction to the next path
+//              point| (the path point lookahead_m beyond the foot of the rollout's end);
+//   clearance: distance left to the path's end after the rollout, capped at clearance_cap_m
+//              (the scenarios have no obstacles; the end of the path is the one thing to stop
+//              for);
+//   speed:     closeness of v to the path speed;
+//   area:      (improved only) the coverage area of the rolled-out front and rear wheel tracks
+//              against the path (seed 002 Fig. 4/5), smaller scoring higher.
+// Improved DWA also drops candidates that a wheel cannot follow: wheel ground speed above
+// max_wheel_speed_m_s, or a steered wheel beyond max_steer_rad.
+// The path ahead is the camera's (or the pose's) local model: the arc of the estimate's
+// curvature through the foot point, in the path frame where the vehicle is at (0, e_d)
+// heading e_theta. Commands are (vx = v, vy = 0, wz = w).
+class DwaController : public PathController {
+ public:
+  struct Options {
+    bool improved = true;
+    int v_samples = 11;
+    int w_samples = 21;
+    double horizon_s = 1.0;
+    double lookahead_m = 0.4;
+    double weight_heading = 1.0;
+    double weight_clearance = 0.1;
+    double weight_speed = 0.3;
+    double weight_area = 1.0;
+    double clearance_cap_m = 1.0;
+    // The wheels on the centre line: x in the vehicle frame (improved: their speed and steer
+    // limits; both: their tracks make the area).
+    double front_wheel_x_m = 0.5;
+    double rear_wheel_x_m = -0.5;
+    double max_wheel_speed_m_s = 1.0;
+    double max_steer_rad = std::numbers::pi / 2.0;
+    bool front_steers = true;
+    bool rear_steers = true;
+  };
+
+  explicit DwaController(const Options& options) : options_(options) {}
+
+  ControllerOutput update(const TrackingEstimate& estimate, const ControlContext& context) override;
+  void reset() override {}
+  std::string name() const override { return options_.improved ? "improved_dwa" : "dwa"; }
+
+  // Candidates scored in the last update (for the benchmark and tests).
+  int last_candidates() const { return last_candidates_; }
+
+ private:
+  Options options_;
+  int last_candidates_ = 0;
+};
+
+}  // namespace agv::control
