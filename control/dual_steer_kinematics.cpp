@@ -79,6 +79,9 @@ DualSteerWheels advance_dual_steer(const DualSteerGeometry& g, const DualSteerWh
                                     current.front_steer_rad + max_turn_rad);
   next.rear_steer_rad = std::clamp(target.rear_steer_rad, current.rear_steer_rad - max_turn_rad,
                                    current.rear_steer_rad + max_turn_rad);
+  // A wheel still turning drives only the part of its target velocity along where it points.
+  next.front_speed_m_s *= std::max(0.0, std::cos(target.front_steer_rad - next.front_steer_rad));
+  next.rear_speed_m_s *= std::max(0.0, std::cos(target.rear_steer_rad - next.rear_steer_rad));
   const double fastest_m_s =
       std::max(std::abs(next.front_speed_m_s), std::abs(next.rear_speed_m_s));
   if (fastest_m_s > g.max_wheel_speed_m_s) {

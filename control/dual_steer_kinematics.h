@@ -23,8 +23,8 @@ struct DualSteerGeometry {
   // Wheel centres on the vehicle's x axis, in the vehicle frame V (origin: reference point).
   double front_x_m() const;
   double rear_x_m() const;
-  bool front_steers() const { return form != DriveForm::kRearDriveFront; }
-  bool rear_steers() const { return form != DriveForm::kFrontDriveRear; }
+  bool front_steers() const { return form != DriveForm::kFrontDriveRear; }
+  bool rear_steers() const { return form != DriveForm::kRearDriveFront; }
 };
 
 // Steer angle (0: straight ahead, left positive) and signed ground speed of each wheel.
@@ -45,7 +45,8 @@ DualSteerWheels dual_steer_inverse(const DualSteerGeometry& geometry, const Body
 BodyTwist dual_steer_forward(const DualSteerGeometry& geometry, const DualSteerWheels& wheels);
 
 // Moves the wheels from `current` towards `target` over dt_s: steer angles at most
-// max_steer_rate * dt_s, and both speeds scaled by one factor when one exceeds the wheel
+// max_steer_rate * dt_s, a wheel still turning driving only the part of its target velocity
+// along where it points, and both speeds scaled by one factor when one exceeds the wheel
 // speed limit (the ratio between them is kept).
 DualSteerWheels advance_dual_steer(const DualSteerGeometry& geometry,
                                    const DualSteerWheels& current, const DualSteerWheels& target,

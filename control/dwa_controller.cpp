@@ -14,21 +14,17 @@ namespace {
 
 struct Candidate {
   double v_m_s = 0.0, w_rad_s = 0.0;
-  double head = 0.0, clearance = 0.0, speed = 0.0, area_m2 = 0.0;
+  double head = 0.0, clearance = 0.0, speed = 0.0;
+  double area_m2 = 0.0;  // per metre travelled: mean |front offset| + |rear offset|
 };
 
-// The path ahead in the path frame: from the foot point (origin) along +x, with the estimate's
-// curvature, long enough for any rollout (arcs: just under a full circle).
-PathSegment local_path(double curvature_1_m) {
+// The local model in the path frame: from the foot point (origin) along +x, with the estimate's
+// curvature, long enough for any roll-out (arcs: just under a full circle).
+Path local_path(double curvature_1_m) {
   const double circle_m =
       std::abs(curvature_1_m) > 1e-9 ? 1.9 * std::numbers::pi / std::abs(curvature_1_m) : 1e9;
-  return {Eigen::Vector2d::Zero(), 0.0, std::min(100.0, circle_m), curvature_1_m, std::nullopt, {}};
-}
-
-double lateral_m(const PathSegment& path, const Eigen::Vector2d& p) {
-  const double s = path.closest_s(p);
-  const double h = path.heading_at(s);
-  return (p - path.point_at(s)).dot(Eigen::Vector2d(-std::sin(h), std::cos(h)));
+  return Path(
+      {{Eigen::Vector2d::Zero(), 0.0, std::min(100.0, circle_m), curvature_1_m, std::nullopt, {}}});
 }
 
 }  // namespace
@@ -43,13 +39,29 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
   // The dynamic window.
   double v_lo = std::max(0.0, v0 - limits.a_max_m_s2 * ts);
   double v_hi = std::min(limits.v_forward_max_m_s, v0 + limits.a_max_m_s2 * ts);
-  v_hi = std::min(v_hi, std::sqrt(2.0 * limits.a_max_m_s2 * std::max(0.0, remaining_m)));
+  // Stopping distance at half the deceleration limit: margin for the period-long steps.
+  v_hi = std::min(v_hi, std::sqrt(limits.a_max_m_s2 * std::max(0.0, remaining_m)));
+  // Progress floor: slower than this only to stop at the end (a score that rewards small
+  // offsets would otherwise stop the vehicle wherever moving on makes them grow).
+  v_lo = std::max(v_lo, std::min(v_hi, o.min_speed_fraction * context.path_speed_m_s));
   v_lo = std::min(v_lo, v_hi);
   const double w_lo = std::max(-limits.w_max_rad_s, w0 - limits.alpha_max_rad_s2 * ts);
   const double w_hi = std::min(limits.w_max_rad_s, w0 + limits.alpha_max_rad_s2 * ts);
 
-  const PathSegment path = local_path(estimate.curvature_1_m);
-  const Pose2 vehicle_in_path{0.0, estimate.e_d_m, estimate.e_theta_rad};
+  // The path and the vehicle's pose in its frame; end_s_m: where the path's end lies.
+  const bool use_plan = o.planned_path && std::isfinite(remaining_m);
+  const Path local = use_plan ? Path() : local_path(estimate.curvature_1_m);
+  const Path& path = use_plan ? *o.planned_path : local;
+  const double foot_s_m = use_plan ? std::max(0.0, path.length_m() - remaining_m) : 0.0;
+  const double end_s_m = use_plan ? path.length_m() : remaining_m;
+  const Eigen::Vector2d foot = path.point_at(foot_s_m);
+  const double foot_heading_rad = path.heading_at(foot_s_m);
+  const Eigen::Vector2d left(-std::sin(foot_heading_rad), std::cos(foot_heading_rad));
+  const Eigen::Vector2d at = foot + estimate.e_d_m * left;
+  const Pose2 vehicle_in_path{at.x(), at.y(), foot_heading_rad + estimate.e_theta_rad};
+  auto lateral_m = [&](const Eigen::Vector2d& p) {
+    return path.project(p, foot_s_m, 2.0 + o.horizon_s * limits.v_forward_max_m_s).lateral_m;
+  };
   const int steps = std::max(1, static_cast<int>(std::lround(o.horizon_s / ts)));
   std::vector<Candidate> candidates;
   for (int i = 0; i < o.v_samples; ++i) {
@@ -72,19 +84,22 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
         const double forward_m = std::abs(turn) > 1e-9 ? v * std::sin(turn) / w : v * ts;
         const double sideways_m = std::abs(turn) > 1e-9 ? v * (1.0 - std::cos(turn)) / w : 0.0;
         pose = pose.compose({forward_m, sideways_m, turn});
-        const double front_m = lateral_m(path, pose.transform({o.front_wheel_x_m, 0.0}));
-        const double rear_m = lateral_m(path, pose.transform({o.rear_wheel_x_m, 0.0}));
-        c.area_m2 += (std::abs(front_m) + std::abs(rear_m)) * v * ts;
+        const double front_m = lateral_m(pose.transform({o.front_wheel_x_m, 0.0}));
+        const double rear_m = lateral_m(pose.transform({o.rear_wheel_x_m, 0.0}));
+        c.area_m2 += (std::abs(front_m) + std::abs(rear_m)) / steps;
       }
-      const double s_end = path.closest_s(pose.translation());
-      const double target_s = std::min(s_end + o.lookahead_m, std::max(0.0, remaining_m));
+      const double s_end =
+          path.project(pose.translation(), foot_s_m, 2.0 + o.horizon_s * limits.v_forward_max_m_s)
+              .s_m;
+      const double target_s = std::min(s_end + o.lookahead_m, std::max(0.0, end_s_m));
       const Eigen::Vector2d to_target = path.point_at(target_s) - pose.translation();
+      // At the end of the path: the end's heading instead of the bearing to a point underfoot.
       const double bearing_rad =
-          to_target.norm() > 1e-6
+          to_target.norm() > 0.05
               ? wrap_angle_rad(std::atan2(to_target.y(), to_target.x()) - pose.yaw_rad)
-              : 0.0;
+              : wrap_angle_rad(path.heading_at(target_s) - pose.yaw_rad);
       c.head = std::numbers::pi - std::abs(bearing_rad);
-      c.clearance = std::clamp(remaining_m - s_end, 0.0, o.clearance_cap_m);
+      c.clearance = std::clamp(end_s_m - s_end, 0.0, o.clearance_cap_m);
       c.speed = std::max(0.0, 1.0 - std::abs(v - context.path_speed_m_s) /
                                         std::max(1e-6, limits.v_forward_max_m_s));
       candidates.push_back(c);

@@ -1,14 +1,17 @@
 #pragma once
 
+#include <memory>
 #include <numbers>
 
+#include "control/path.h"
 #include "control/path_controller.h"
 
 namespace agv::control {
 
 // Dynamic window approach for path tracking, plain or with seed 002's improvements. Every
 // period it samples (v, w) inside the window that the vehicle limits (speed, acceleration over
-// one period) and the stopping distance to the path's end (v <= sqrt(2 a remaining)) allow,
+// one period), the stopping distance to the path's end (v <= sqrt(2 a remaining)) and a
+// progress floor (v >= min_speed_fraction * path speed, where the window reaches it) allow,
 // rolls each out for horizon_s at constant (v, w), and scores it by
 //   G = w_heading * head + w_clearance * clearance + w_speed * speed + w_area * area,
 // each term normalised to [0, 1] by its range over the candidates (seed 002's sigma; a share
@@ -21,12 +24,15 @@ namespace agv::control {
 //              for);
 //   speed:     closeness of v to the path speed;
 //   area:      (improved only) the coverage area of the rolled-out front and rear wheel tracks
-//              against the path (seed 002 Fig. 4/5), smaller scoring higher.
+//              against the path (seed 002 Fig. 4/5) per metre travelled, that is the mean of
+//              |front offset| + |rear offset| over the roll-out, smaller scoring higher (the
+//              area itself grows with speed, and would make standing still score best).
 // Improved DWA also drops candidates that a wheel cannot follow: wheel ground speed above
 // max_wheel_speed_m_s, or a steered wheel beyond max_steer_rad.
-// The path ahead is the camera's (or the pose's) local model: the arc of the estimate's
-// curvature through the foot point, in the path frame where the vehicle is at (0, e_d)
-// heading e_theta. Commands are (vx = v, vy = 0, wz = w).
+// The path ahead: with a planned path and an input that knows where along it the vehicle is
+// (pose input: remaining_m finite), the planned path itself, so the roll-outs see the next
+// arc coming (as seed 002's planner does); otherwise (a camera) the local model, the arc of the
+// estimate's curvature through the foot point. Commands are (vx = v, vy = 0, wz = w).
 class DwaController : public PathController {
  public:
   struct Options {
@@ -38,8 +44,9 @@ class DwaController : public PathController {
     double weight_heading = 1.0;
     double weight_clearance = 0.1;
     double weight_speed = 0.3;
-    double weight_area = 1.0;
+    double weight_area = 0.5;
     double clearance_cap_m = 1.0;
+    double min_speed_fraction = 0.5;  // v >= this * path speed unless stopping for the end
     // The wheels on the centre line: x in the vehicle frame (improved: their speed and steer
     // limits; both: their tracks make the area).
     double front_wheel_x_m = 0.5;
@@ -48,6 +55,7 @@ class DwaController : public PathController {
     double max_steer_rad = std::numbers::pi / 2.0;
     bool front_steers = true;
     bool rear_steers = true;
+    std::shared_ptr<const Path> planned_path;  // may be empty
   };
 
   explicit DwaController(const Options& options) : options_(options) {}

@@ -107,8 +107,8 @@ control::LineTracker make_tracker(const Scenario& s) {
   options.path_speed_m_s = s.path_speed_m_s;
   options.line_lost_hold_s = s.controller.line_lost_hold_s;
   options.latency_compensation = s.controller.latency_compensation;
-  return control::LineTracker(make_controller(s.controller, s.vehicle), s.vehicle.limits, options,
-                              start_twist(s));
+  return control::LineTracker(make_controller(s.controller, s.vehicle, &s.path), s.vehicle.limits,
+                              options, start_twist(s));
 }
 
 perception::CameraModel render_camera(const Scenario& s) {
@@ -117,7 +117,8 @@ perception::CameraModel render_camera(const Scenario& s) {
 }
 
 std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config,
-                                                         const VehicleConfig& vehicle) {
+                                                         const VehicleConfig& vehicle,
+                                                         const control::Path* planned_path) {
   if (config.kind == "pid") return std::make_unique<control::PidController>(config.pid);
   if (config.kind == "seed004_ff_p") {
     control::Seed004Controller::Options options = config.seed004;
@@ -132,6 +133,7 @@ std::unique_ptr<control::PathController> make_controller(const ControllerConfig&
     options.improved = config.kind == "improved_dwa";
     options.front_wheel_x_m = vehicle.front_track_x_m();
     options.rear_wheel_x_m = vehicle.rear_track_x_m();
+    if (planned_path) options.planned_path = std::make_shared<const control::Path>(*planned_path);
     if (vehicle.kind == "dual_steer") {
       options.max_wheel_speed_m_s = vehicle.dual_steer.max_wheel_speed_m_s;
       options.max_steer_rad = vehicle.dual_steer.max_steer_rad;

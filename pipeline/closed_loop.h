@@ -73,9 +73,11 @@ using Progress = std::function<void(double)>;
 using FrameSink =
     std::function<void(const FrameRecord& record, const Pose2& pose, const cv::Mat& frame)>;
 
-// The controller the config names, with what it needs to know of the vehicle.
-std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config,
-                                                         const VehicleConfig& vehicle);
+// The controller the config names, with what it needs to know of the vehicle and, if given,
+// the planned path (DWA looks ahead along it when the input is the pose).
+std::unique_ptr<control::PathController> make_controller(
+    const ControllerConfig& config, const VehicleConfig& vehicle,
+    const control::Path* planned_path = nullptr);
 // The camera that takes the frames: the camera file's, or its intrinsics with the true mount.
 perception::CameraModel render_camera(const Scenario& scenario);
 // The scenario's controller inside a LineTracker (limits, line-loss hold), started at its twist.

@@ -59,8 +59,32 @@ std::optional<double> rms_from(const std::vector<double>& values, size_t first) 
   return std::sqrt(sum / (values.size() - first));
 }
 
+double track_area_m2(const control::Path& path, const std::vector<Eigen::Vector2d>& track) {
+  double area_m2 = 0.0;
+  std::optional<control::PathProjection> previous;
+  for (const Eigen::Vector2d& point : track) {
+    const control::PathProjection foot =
+        previous ? path.project(point, previous->s_m, 0.5) : path.project(point);
+    if (previous) {
+      const double ds_m = std::abs(foot.s_m - previous->s_m);
+      const double a = previous->lateral_m, b = foot.lateral_m;
+      area_m2 += (a * b >= 0.0) ? 0.5 * (std::abs(a) + std::abs(b)) * ds_m
+                                : 0.5 * (a * a + b * b) / (std::abs(a) + std::abs(b)) * ds_m;
+    }
+    previous = foot;
+  }
+  return area_m2;
+}
+
 RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
   RunMetrics m;
+  std::vector<Eigen::Vector2d> front_track, rear_track;
+  for (const TraceRow& row : run.rows) {
+    front_track.push_back(row.front_wheel);
+    rear_track.push_back(row.rear_wheel);
+  }
+  m.coverage_area_m2 =
+      track_area_m2(scenario.path, front_track) + track_area_m2(scenario.path, rear_track);
   std::vector<double> t, e_d, e_theta;
   for (const TraceRow& row : run.rows) {
     t.push_back(row.t_s);
@@ -123,7 +147,7 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["frames_lost"] = m.frames_lost;
   j["perception_rms_e_d_m"] = optional_json(m.perception_rms_e_d_m);
   j["perception_rms_e_theta_rad"] = optional_json(m.perception_rms_e_theta_rad);
-  j["coverage_area_m2"] = nullptr;  // needs wheel tracks on the centre line (dual steering wheel)
+  j["coverage_area_m2"] = m.coverage_area_m2;
 
   int saturated = 0, infeasible = 0, stopping = 0, holding = 0, horizon_sum = 0, horizon_count = 0,
       horizon_max = 0;

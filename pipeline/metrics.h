@@ -26,6 +26,7 @@ struct RunMetrics {
   int frames_lost = 0;
   std::optional<double> perception_rms_e_d_m;
   std::optional<double> perception_rms_e_theta_rad;
+  double coverage_area_m2 = 0.0;  // seed 002: front and rear wheel tracks against the path
 };
 
 // First time after which |e_d| <= band_d and |e_theta| <= band_theta hold to the end of the
@@ -41,6 +42,11 @@ double overshoot(const std::vector<double>& e);
 
 // Root mean square of values[first..].
 std::optional<double> rms_from(const std::vector<double>& values, size_t first);
+
+// Area between a track (points in time order) and the path: the integral of |lateral offset|
+// over the foot points' arc length, by the trapezoid rule, an interval whose ends lie on
+// opposite sides split at the crossing (two triangles). Seed 002's coverage area of one wheel.
+double track_area_m2(const control::Path& path, const std::vector<Eigen::Vector2d>& track);
 
 RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario);
 

@@ -61,7 +61,7 @@ control::Path read_path(YamlReader& in, const std::string& prefix) {
       path.add_hermite_to(end);
     } else {
       const double radius_m = in.positive(key + "radius_m", 0.5, 1e4);
-      const double limit_rad = kind == "arc" ? 2 * kPi : kPi / 2;  // seed 004 S1: <= 90 deg
+      const double limit_rad = kind == "arc" ? 2 * kPi : kPi / 2 + 1e-6;  // seed 004 S1: <= 90 deg
       const double angle_rad = in.number(key + "angle_rad", kPi / 2, -limit_rad, limit_rad);
       if (angle_rad == 0.0)
         throw InputError(in.origin(key + "angle_rad") + ": key '" + key +

@@ -102,7 +102,7 @@ TEST(HermiteCubic, PathOfHermitePiecesProjectsLikeTheArc) {
   EXPECT_NEAR(hermite.length_m(), exact.length_m(), 1e-4);
   EXPECT_LT((hermite.end_pose().translation() - Eigen::Vector2d(1.5, 1.5)).norm(), 1e-9);
   for (const Eigen::Vector2d& p : {Eigen::Vector2d(1.2, 0.3), Eigen::Vector2d(1.001, -0.01),
-                                  Eigen::Vector2d(1.49, 0.52), Eigen::Vector2d(1.3, 0.1)}) {
+                                   Eigen::Vector2d(1.49, 0.52), Eigen::Vector2d(1.3, 0.1)}) {
     const PathProjection a = exact.project(p), b = hermite.project(p);
     EXPECT_NEAR(a.lateral_m, b.lateral_m, 1e-4) << p.transpose();
     EXPECT_NEAR(a.s_m, b.s_m, 2e-4) << p.transpose();

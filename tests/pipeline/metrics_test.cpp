@@ -42,3 +42,31 @@ TEST(Metrics, RootMeanSquareFromAnIndex) {
 
 }  // namespace
 }  // namespace agv::pipeline
+
+namespace agv::pipeline {
+namespace {
+
+// Coverage area against hand-computed polygons beside a straight path along +x.
+TEST(Metrics, CoverageAreaOfKnownPolygons) {
+  const control::Path straight = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(5.0);
+  // A track 0.1 m to the left over 2 m: a 2 x 0.1 rectangle.
+  EXPECT_NEAR(track_area_m2(straight, {{0.0, 0.1}, {1.0, 0.1}, {2.0, 0.1}}), 0.2, 1e-12);
+  // A trapezoid: from 0 to 0.2 m over 1 m, then 0.2 m for 1 m: 0.1 + 0.2.
+  EXPECT_NEAR(track_area_m2(straight, {{0.0, 0.0}, {1.0, -0.2}, {2.0, -0.2}}), 0.3, 1e-12);
+  // Crossing the path: from +0.1 to -0.1 over 1 m is two triangles of 0.5 x 0.5 x 0.1.
+  EXPECT_NEAR(track_area_m2(straight, {{0.0, 0.1}, {1.0, -0.1}}), 0.05, 1e-12);
+  // Standing still adds nothing.
+  EXPECT_NEAR(track_area_m2(straight, {{1.0, 0.3}, {1.0, 0.3}}), 0.0, 1e-12);
+  // Beside an arc: a track 0.1 m inside a quarter circle of radius 1 m, integrated over the
+  // path's arc length (pi/2 m): 0.1 * pi / 2, to the trapezoid rule's chord error.
+  const control::Path arc = control::Path::starting_at({0.0, 0.0, 0.0}).add_arc(1.0, M_PI / 2);
+  std::vector<Eigen::Vector2d> inside;
+  for (int i = 0; i <= 90; ++i) {
+    const double a = i * M_PI / 180.0;
+    inside.emplace_back(0.9 * std::sin(a), 1.0 - 0.9 * std::cos(a));
+  }
+  EXPECT_NEAR(track_area_m2(arc, inside), 0.1 * M_PI / 2, 1e-6);
+}
+
+}  // namespace
+}  // namespace agv::pipeline
