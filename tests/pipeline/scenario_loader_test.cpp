@@ -100,6 +100,12 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
        {"camera_true_mount.xyz_m"}},
       // Bad paths: a zero-length line, a radius of 0, a Hermite turn over 90 deg, a segment
       // whose stated start is not where the path ends, a Hermite piece to its own start.
+      // Impossible vehicles: wheels too slow for the path speed, a steer range past 90 deg.
+      {"vehicle:\n  kind: dual_steer\n  max_wheel_speed_m_s: 0.2\n",
+       {},
+       {"vehicle.max_wheel_speed_m_s", "path_speed_m_s"}},
+      {"vehicle:\n  max_wheel_speed_rad_s: 3.0\n", {}, {"vehicle.max_wheel_speed_rad_s"}},
+      {"vehicle:\n  kind: dual_steer\n  max_steer_rad: 2.0\n", {}, {"vehicle.max_steer_rad"}},
       {"path:\n  segments:\n    - {kind: line, length_m: 0.0}\n", {}, {"path.segments.0.length_m"}},
       {"path:\n  segments:\n    - {kind: arc, radius_m: 0, angle_rad: 1.0}\n",
        {},

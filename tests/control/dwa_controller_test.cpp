@@ -1,0 +1,69 @@
+#include "control/dwa_controller.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace agv::control {
+namespace {
+
+ControlContext seed002_context() {
+  ControlContext c;
+  c.ts_s = 0.1;
+  c.path_speed_m_s = 0.5;
+  c.previous_command = {0.5, 0.0, 0.0};
+  c.limits.v_forward_max_m_s = 0.8;
+  c.limits.a_max_m_s2 = 1.2;
+  c.limits.w_max_rad_s = 10.0 * M_PI / 180.0;
+  c.limits.alpha_max_rad_s2 = 10.0 * M_PI / 180.0;
+  return c;
+}
+
+// The command lies in the dynamic window: |v - v0| <= a Ts, |w - w0| <= alpha Ts, vy = 0.
+// 20 mm left of a straight path, heading along it, the best roll-out turns right, towards it.
+TEST(DwaController, StaysInTheWindowAndTurnsTowardsThePath) {
+  for (bool improved : {false, true}) {
+    DwaController::Options options;
+    options.improved = improved;
+    DwaController dwa(options);
+    TrackingEstimate e;
+    e.e_d_m = 0.02;
+    const ControlContext c = seed002_context();
+    const ControllerOutput out = dwa.update(e, c);
+    EXPECT_LE(std::abs(out.command.vx_m_s - 0.5), 1.2 * 0.1 + 1e-12);
+    EXPECT_LE(std::abs(out.command.wz_rad_s), c.limits.alpha_max_rad_s2 * 0.1 + 1e-12);
+    EXPECT_EQ(out.command.vy_m_s, 0.0);
+    EXPECT_LT(out.command.wz_rad_s, 0.0) << (improved ? "improved" : "plain");
+    EXPECT_EQ(dwa.last_candidates(), 11 * 21);
+  }
+}
+
+// Improved DWA keeps to the wheels: with wheels 0.5 m from the reference and a wheel-speed
+// limit of 0.5 m/s at v >= 0.38 m/s, only |w| <= sqrt(0.5^2 - v^2) / 0.5 is admitted.
+TEST(DwaController, ImprovedWindowDropsWhatTheWheelsCannotDo) {
+  DwaController::Options options;
+  options.max_wheel_speed_m_s = 0.5;
+  DwaController dwa(options);
+  ControlContext c = seed002_context();
+  c.limits.w_max_rad_s = 2.0;
+  c.limits.alpha_max_rad_s2 = 20.0;
+  TrackingEstimate e;
+  e.e_theta_rad = 0.5;  // wants a hard right turn
+  const ControllerOutput out = dwa.update(e, c);
+  const double v = out.command.vx_m_s;
+  EXPECT_LE(std::hypot(v, 0.5 * out.command.wz_rad_s), 0.5 + 1e-12);
+  EXPECT_LT(dwa.last_candidates(), 11 * 21);
+}
+
+// At the end of the path (pose input: remaining 0) the window only holds v = 0 or braking.
+TEST(DwaController, StopsForTheEndOfThePath) {
+  DwaController dwa(DwaController::Options{});
+  TrackingEstimate e;
+  e.remaining_m = 0.0;
+  ControlContext c = seed002_context();
+  c.previous_command = {0.1, 0.0, 0.0};
+  EXPECT_EQ(dwa.update(e, c).command.vx_m_s, 0.0);
+}
+
+}  // namespace
+}  // namespace agv::control
