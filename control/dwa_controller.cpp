@@ -7,6 +7,7 @@
 
 #include "common/angles.h"
 #include "common/pose2.h"
+#include "common/twist_motion.h"
 #include "control/path.h"
 
 namespace agv::control {
@@ -59,8 +60,10 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
   const Eigen::Vector2d left(-std::sin(foot_heading_rad), std::cos(foot_heading_rad));
   const Eigen::Vector2d at = foot + estimate.e_d_m * left;
   const Pose2 vehicle_in_path{at.x(), at.y(), foot_heading_rad + estimate.e_theta_rad};
+  // Roll-outs stay within this much arc length of the foot point.
+  const double search_window_m = 2.0 + o.horizon_s * limits.v_forward_max_m_s;
   auto lateral_m = [&](const Eigen::Vector2d& p) {
-    return path.project(p, foot_s_m, 2.0 + o.horizon_s * limits.v_forward_max_m_s).lateral_m;
+    return path.project(p, foot_s_m, search_window_m).lateral_m;
   };
   const int steps = std::max(1, static_cast<int>(std::lround(o.horizon_s / ts)));
   std::vector<Candidate> candidates;
@@ -79,18 +82,12 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
       Candidate c{v, w};
       Pose2 pose = vehicle_in_path;
       for (int k = 0; k < steps; ++k) {
-        // Exact constant-twist motion over one step.
-        const double turn = w * ts;
-        const double forward_m = std::abs(turn) > 1e-9 ? v * std::sin(turn) / w : v * ts;
-        const double sideways_m = std::abs(turn) > 1e-9 ? v * (1.0 - std::cos(turn)) / w : 0.0;
-        pose = pose.compose({forward_m, sideways_m, turn});
+        pose = integrate_twist(pose, {v, 0.0, w}, ts);
         const double front_m = lateral_m(pose.transform({o.front_wheel_x_m, 0.0}));
         const double rear_m = lateral_m(pose.transform({o.rear_wheel_x_m, 0.0}));
         c.area_m2 += (std::abs(front_m) + std::abs(rear_m)) / steps;
       }
-      const double s_end =
-          path.project(pose.translation(), foot_s_m, 2.0 + o.horizon_s * limits.v_forward_max_m_s)
-              .s_m;
+      const double s_end = path.project(pose.translation(), foot_s_m, search_window_m).s_m;
       const double target_s = std::min(s_end + o.lookahead_m, std::max(0.0, end_s_m));
       const Eigen::Vector2d to_target = path.point_at(target_s) - pose.translation();
       // At the end of the path: the end's heading instead of the bearing to a point underfoot.

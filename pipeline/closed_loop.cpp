@@ -46,10 +46,11 @@ class TruthTracker {
     s_m_ = foot_.s_m;
     return path_.tracking_error(pose, foot_);
   }
-  // What localisation tells the controller (controller.input: pose): the true errors of the
-  // last pose, the curvature at its foot point and the arc length left to the path's end.
-  LineMeasurement pose_measurement(const Pose2& pose, double t_s) {
-    const control::TrackingError e = (*this)(pose);
+  // What localisation tells the controller (controller.input: pose) about the pose last passed
+  // to operator() and its errors `e`: those errors, the curvature at its foot point and the arc
+  // length left to the path's end.
+  LineMeasurement pose_measurement(const Pose2& pose, const control::TrackingError& e,
+                                   double t_s) const {
     LineMeasurement m;
     m.stamp_s = t_s;
     m.line_found = true;
@@ -177,7 +178,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
     Clock::time_point t0 = Clock::now();
     StampedMeasurement stamped{{}, truth, static_cast<std::uint64_t>(k)};
     if (pose_input) {
-      stamped.measurement = truth_of.pose_measurement(pose, t);
+      stamped.measurement = truth_of.pose_measurement(pose, truth, t);
     } else {
       renderer.render_into(pose, plant.twist(), static_cast<std::uint64_t>(k), &frame);
       apply_frame_faults(s.frame_faults, t, static_cast<std::uint64_t>(k), &frame);
@@ -280,15 +281,13 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
       Clock::time_point t0 = Clock::now();
       StampedMeasurement stamped{{}, truth, i};
       if (pose_input) {
-        stamped.measurement = truth_of.pose_measurement(pose, t);
+        stamped.measurement = truth_of.pose_measurement(pose, truth, t);
       } else {
         renderer.render_into(pose, twist, i, &frame);
         apply_frame_faults(s.frame_faults, t, i, &frame);
-      }
-      Clock::time_point t1 = Clock::now();
-      if (!pose_input) stamped.measurement = estimator.measure(frame, t);
-      Clock::time_point t2 = Clock::now();
-      if (!pose_input) {
+        Clock::time_point t1 = Clock::now();
+        stamped.measurement = estimator.measure(frame, t);
+        Clock::time_point t2 = Clock::now();
         std::lock_guard<std::mutex> lock(frames_mutex);
         result.total_times.render_s += std::chrono::duration<double>(t1 - t0).count();
         result.total_times.perceive_s += std::chrono::duration<double>(t2 - t1).count();

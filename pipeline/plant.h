@@ -4,13 +4,10 @@
 
 #include "common/body_twist.h"
 #include "common/pose2.h"
+#include "common/twist_motion.h"  // integrate_twist
 #include "control/dual_steer_kinematics.h"
 
 namespace agv::pipeline {
-
-// Pose after moving with a constant body twist for dt_s: the exact SE(2) exponential, not the
-// small-angle model of seed 000 eq. 12 (DIGEST erratum 4).
-Pose2 integrate_twist(const Pose2& start, const BodyTwist& twist, double dt_s);
 
 // Kinematic vehicle: integrates the twist it is commanded, optionally through a first-order
 // actuator lag (the real twist approaches the command with time constant lag_s). A dual
