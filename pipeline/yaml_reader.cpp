@@ -254,6 +254,22 @@ size_t YamlReader::sequence_size(const std::string& key) {
   return node.size();
 }
 
+std::vector<std::pair<std::string, std::string>> YamlReader::settings(const std::string& key) {
+  known_.insert(key);
+  const YAML::Node node = find(key);
+  std::vector<std::pair<std::string, std::string>> pairs;
+  if (!node.IsDefined() || node.IsNull()) return pairs;
+  if (!node.IsMap()) fail(key, "expected a mapping of keys to values, like {duration_s: 10}");
+  for (const auto& entry : node) {
+    YAML::Emitter flow;
+    flow.SetMapFormat(YAML::Flow);
+    flow.SetSeqFormat(YAML::Flow);
+    flow << entry.second;
+    pairs.emplace_back(entry.first.Scalar(), flow.c_str());
+  }
+  return pairs;
+}
+
 void YamlReader::check_unused(const YAML::Node& node, const std::string& path) const {
   if (!node.IsMap()) return;
   for (const auto& entry : node) {

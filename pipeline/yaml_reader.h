@@ -37,6 +37,10 @@ class YamlReader {
   // Number of elements of a sequence of maps (0 when absent); its elements are read with
   // keys like "path.segments.2.length_m".
   size_t sequence_size(const std::string& key);
+  // A mapping of free keys to YAML values (e.g. a suite's `set: {duration_s: 10}`), as
+  // ("key", "value as flow YAML") pairs in file order; empty when absent. Its keys are not
+  // checked here: they are checked where they are used.
+  std::vector<std::pair<std::string, std::string>> settings(const std::string& key);
 
   // Throws InputError for the first key in the tree that no read asked for, suggesting the
   // closest known key.

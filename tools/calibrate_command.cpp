@@ -43,7 +43,6 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
   sub->add_flag("--json", args.json, "Print the result as JSON");
   sub->callback([&args] { args.command = "intrinsics"; });
 
-
   CLI::App* mount = calibrate->add_subcommand(
       "mount",
       "The camera's mount on the vehicle (the camera offset) from AprilTags lying on the floor "

@@ -7,6 +7,8 @@
 #include "common/input_error.h"
 #include "tools/bench_command.h"
 #include "tools/calibrate_command.h"
+#include "tools/compare_command.h"
+
 #include "tools/evaluate_command.h"
 #include "tools/record_command.h"
 #include "tools/replay_command.h"
@@ -30,6 +32,9 @@ int main(int argc, char** argv) {
   agv::tools::add_replay_command(app, replay);
   agv::tools::CalibrateArgs calibrate;
   agv::tools::add_calibrate_command(app, calibrate);
+  agv::tools::CompareArgs compare;
+  agv::tools::add_compare_command(app, compare);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -44,6 +49,8 @@ int main(int argc, char** argv) {
     if (command == "evaluate") return agv::tools::run_evaluate(evaluate);
     if (command == "replay") return agv::tools::run_replay_command(replay);
     if (command == "calibrate") return agv::tools::run_calibrate(calibrate);
+    if (command == "compare") return agv::tools::run_compare(compare);
+
   } catch (const agv::InputError& e) {
     std::cerr << "agv " << command << ": error: " << e.what() << '\n';
     return 2;

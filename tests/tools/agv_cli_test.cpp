@@ -16,35 +16,15 @@
 #include <string>
 #include <vector>
 
+#include "support/agv_process.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-Result run(const std::string& arguments) {
-  const std::string command = std::string(AGV_BINARY) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer;
-  while (size_t n = fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-class AgvCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("agv_cli_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
-};
+using Result = agv::testing::AgvResult;
+Result run(const std::string& arguments) { return agv::testing::run_agv(arguments); }
+using AgvCli = agv::testing::ScratchFolderTest;
 
 TEST_F(AgvCli, DefaultSimulationWritesItsResults) {
   const Result r = run("simulate --quiet --out " + path("run"));

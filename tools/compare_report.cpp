@@ -1,0 +1,424 @@
+#include "tools/compare_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "common/angles.h"
+#include "common/input_error.h"
+#include "common/statistics.h"
+#include "tools/gnuplot.h"
+#include "tools/report_table.h"
+
+namespace agv::tools {
+namespace {
+
+namespace fs = std::filesystem;
+using pipeline::ComparePlan;
+using pipeline::CompareRun;
+
+std::string fixed(double value, int decimals) {
+  if (std::isinf(value)) return "never";
+  char text[48];
+  std::snprintf(text, sizeof(text), "%.*f", decimals, value);
+  return text;
+}
+
+std::string fixed(const std::optional<double>& value, double scale, int decimals) {
+  return value ? fixed(*value * scale, decimals) : std::string();
+}
+
+void write_text(const fs::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  if (!out) throw InputError(file.string() + ": cannot write");
+}
+
+// The suite table: one row per run, scenario by scenario.
+ReportTable metrics_table(bool with_scenario) {
+  std::vector<ReportTable::Column> columns;
+  if (with_scenario) columns.push_back({"scenario", "scenario"});
+  columns.insert(columns.end(), {{"controller", "controller"},
+                                 {"settle_time_s", "settle (s)"},
+                                 {"max_abs_e_d_mm", "max abs e_d (mm)"},
+                                 {"max_abs_e_theta_deg", "max abs e_θ (deg)"},
+                                 {"rms_e_d_mm", "RMS e_d after settling (mm)"},
+                                 {"rms_e_theta_deg", "RMS e_θ after settling (deg)"},
+                                 {"overshoot_e_d_mm", "overshoot e_d (mm)"},
+                                 {"max_abs_v_lateral_m_s", "max abs lateral speed (m/s)"},
+                                 {"max_abs_accel_m_s2", "max abs accel (m/s²)"},
+                                 {"limit_violations", "limit violations"},
+                                 {"coverage_area_m2", "coverage area (m²)"},
+                                 {"frames_lost", "frames lost"},
+                                 {"max_measurement_age_ms", "max measurement age (ms)"},
+                                 {"control_us_per_period", "compute per period (µs)"}});
+  return ReportTable(columns);
+}
+
+std::vector<std::string> metrics_cells(const CompareRun& r, bool with_scenario) {
+  const pipeline::RunMetrics& m = r.metrics;
+  std::vector<std::string> cells;
+  if (with_scenario) cells.push_back(r.scenario);
+  cells.insert(cells.end(),
+               {r.controller, fixed(m.settle_time_s, 1.0, 2), fixed(1e3 * m.max_abs_e_d_m, 2),
+                fixed(rad_to_deg(m.max_abs_e_theta_rad), 2), fixed(m.rms_e_d_m, 1e3, 3),
+                fixed(m.rms_e_theta_rad, 180.0 / M_PI, 3), fixed(1e3 * m.overshoot_e_d_m, 2),
+                fixed(m.max_abs_v_lateral_m_s, 3), fixed(m.max_abs_accel_m_s2, 3),
+                std::to_string(m.limit_violations), fixed(m.coverage_area_m2, 4),
+                std::to_string(m.frames_lost), fixed(1e3 * r.max_measurement_age_s, 0),
+                fixed(r.control_us_per_period, 1)});
+  return cells;
+}
+
+std::vector<const CompareRun*> runs_of_scenario(const std::vector<CompareRun>& runs,
+                                                const std::string& scenario) {
+  std::vector<const CompareRun*> out;
+  for (const CompareRun& r : runs)
+    if (r.scenario == scenario) out.push_back(&r);
+  return out;
+}
+
+// series/<scenario>.csv: the true errors of every controller against time (the plots' data).
+void write_series(const fs::path& file, const std::vector<const CompareRun*>& runs) {
+  std::ofstream out(file);
+  out << "t_s";
+  size_t rows = 0;
+  for (const CompareRun* r : runs) {
+    out << ',' << r->controller << "_e_d_mm," << r->controller << "_e_theta_deg";
+    rows = std::max(rows, r->t_s.size());
+  }
+  out << '\n';
+  for (size_t i = 0; i < rows; ++i) {
+    const CompareRun* with_time = nullptr;
+    for (const CompareRun* r : runs)
+      if (i < r->t_s.size()) with_time = r;
+    out << fixed(with_time->t_s[i], 3);
+    for (const CompareRun* r : runs) {
+      if (i < r->t_s.size())
+        out << ',' << fixed(1e3 * r->e_d_m[i], 4) << ',' << fixed(rad_to_deg(r->e_theta_rad[i]), 4);
+      else
+        out << ",,";
+    }
+    out << '\n';
+  }
+  if (!out) throw InputError(file.string() + ": cannot write");
+}
+
+// Distinct line colours (matplotlib's tab10), one per controller in the plan's order.
+const std::vector<std::string> kColours{"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                        "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+
+// plots/<scenario>.png: e_d and e_theta of every controller, with the settle bands.
+std::string plot_scenario(const fs::path& series, const fs::path& png,
+                          const pipeline::PlannedScenario& scenario,
+                          const std::vector<const CompareRun*>& runs) {
+  const double band_mm = 1e3 * runs.front()->settle_band_e_d_m;
+  const double band_deg = rad_to_deg(runs.front()->settle_band_e_theta_rad);
+  const std::string data = gnuplot_quote(series.string());
+  std::ostringstream script;
+  script << "set terminal pngcairo size 1100,800 font 'DejaVu Sans,11'\n"
+         << "set output " << gnuplot_quote(png.string()) << "\n"
+         << "set datafile separator ','\nset datafile missing ''\n"
+         << "set multiplot layout 2,1 title "
+         << gnuplot_quote(scenario.entry.name + ": " + scenario.entry.about) << " noenhanced\n"
+         << "set grid\nset key outside right top noenhanced\nset xlabel 'time (s)'\n";
+  auto panel = [&](const std::string& ylabel, int offset, double band, const std::string& unit) {
+    script << "set ylabel " << gnuplot_quote(ylabel) << "\nplot ";
+    for (size_t i = 0; i < runs.size(); ++i) {
+      script << data << " using 1:" << 2 + 2 * i + offset << " every ::1 with lines lw 2 lc rgb '"
+             << kColours[i % kColours.size()] << "' title " << gnuplot_quote(runs[i]->controller)
+             << ", ";
+    }
+    script << band << " with lines dt 2 lc rgb '#555555' title "
+           << gnuplot_quote("±" + fixed(band, 1) + " " + unit) << ", " << -band
+           << " with lines dt 2 lc rgb '#555555' notitle\n";
+  };
+  panel("lateral error e_d (mm)", 0, band_mm, "mm");
+  panel("heading error e_θ (deg)", 1, band_deg, "deg");
+  script << "unset multiplot\n";
+  return run_gnuplot(script.str());
+}
+
+// The latency study as a controller x latency grid of "compensation on / off" cells.
+std::string latency_tables(const ComparePlan& plan, const std::vector<CompareRun>& runs,
+                           bool html) {
+  std::vector<std::string> labels;
+  for (const auto& s : plan.scenarios) {
+    if (!s.latency_label.empty() &&
+        std::find(labels.begin(), labels.end(), s.latency_label) == labels.end())
+      labels.push_back(s.latency_label);
+  }
+  if (labels.empty()) return "";
+  std::map<std::tuple<std::string, std::string, bool>, const CompareRun*> cell;
+  for (const CompareRun& r : runs) {
+    for (const auto& s : plan.scenarios) {
+      if (s.entry.name == r.scenario && !s.latency_label.empty())
+        cell[{r.controller, s.latency_label, s.compensation}] = &r;
+    }
+  }
+  std::vector<ReportTable::Column> columns{{"controller", "controller"}};
+  for (const std::string& l : labels)
+    columns.push_back({l, l == "threaded" ? "threaded (age varies)" : l + " frame(s)"});
+  struct Measure {
+    std::string title;
+    std::function<std::string(const CompareRun&)> value;
+  };
+  const std::vector<Measure> measures{
+      {"max abs e_d (mm), compensation on / off",
+       [](const CompareRun& r) { return fixed(1e3 * r.metrics.max_abs_e_d_m, 2); }},
+      {"settle time (s), compensation on / off",
+       [](const CompareRun& r) {
+         return r.metrics.settle_time_s ? fixed(*r.metrics.settle_time_s, 2) : "never";
+       }},
+      {"RMS e_d after settling (mm), compensation on / off", [](const CompareRun& r) {
+         return r.metrics.rms_e_d_m ? fixed(1e3 * *r.metrics.rms_e_d_m, 3) : "-";
+       }}};
+  std::string out;
+  for (const Measure& measure : measures) {
+    ReportTable table(columns);
+    for (const auto& controller : plan.controllers) {
+      std::vector<std::string> cells{controller.name};
+      bool any = false;
+      for (const std::string& l : labels) {
+        const auto on = cell.find({controller.name, l, true});
+        const auto off = cell.find({controller.name, l, false});
+        std::string text = on != cell.end() ? measure.value(*on->second) : "-";
+        text += " / ";
+        text += off != cell.end() ? measure.value(*off->second) : "-";
+        any = any || on != cell.end() || off != cell.end();
+        cells.push_back(text);
+      }
+      if (any) table.add_row(cells);
+    }
+    if (html)
+      out += "<h3>" + html_escape(measure.title) + "</h3>\n" + table.html();
+    else
+      out += "### " + measure.title + "\n\n" + table.markdown() + "\n";
+  }
+  return out;
+}
+
+const char* kStyle =
+    "<style>body{font-family:sans-serif;max-width:1200px;margin:auto;padding:1em}"
+    "table{border-collapse:collapse;margin:0.5em 0 1.5em}td,th{border:1px solid #ccc;"
+    "padding:3px 8px}td.num{text-align:right}th{background:#eee}img{max-width:100%}</style>\n";
+
+std::string plan_heading(const ComparePlan& plan, size_t runs) {
+  return "suite '" + plan.suite_name + "', seed " + std::to_string(plan.seed) + ", " +
+         std::to_string(runs) + " runs, base scenario: " + plan.base.name;
+}
+
+std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePlan& plan,
+                                            const std::vector<CompareRun>& runs) {
+  std::vector<std::string> warnings;
+  fs::create_directories(dir / "plots");
+  fs::create_directories(dir / "series");
+  const CompareRun& first = runs.front();
+  const std::string bands = fixed(1e3 * first.settle_band_e_d_m, 1) + " mm / " +
+                            fixed(rad_to_deg(first.settle_band_e_theta_rad), 1) + " deg";
+  const std::string legend =
+      "Settle: the first time after which |e_d| and |e_θ| stay within " + bands +
+      " to the end of the run (n/a: never). RMS errors are over the samples after settling. "
+      "Errors are the true ones (ground truth), once per control period. Compute per period is "
+      "the controller's mean time, measured, so it varies from run to run.";
+
+  ReportTable all = metrics_table(true);
+  for (const CompareRun& r : runs) all.add_row(metrics_cells(r, true));
+  write_text(dir / "table.csv", all.csv());
+
+  std::string md = "# agv compare: " + plan_heading(plan, runs.size()) + "\n\n" + legend + "\n\n";
+  std::string html = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: " +
+                     html_escape(plan.suite_name) + "</title>\n" + kStyle + "</head><body>\n" +
+                     "<h1>agv compare</h1>\n<p>" + html_escape(plan_heading(plan, runs.size())) +
+                     ". Tables: <a href=\"table.md\">table.md</a>, <a href=\"table.csv\">" +
+                     "table.csv</a>; traces: series/*.csv.</p>\n<p>" + html_escape(legend) +
+                     "</p>\n";
+  const std::string latency_md = latency_tables(plan, runs, false);
+  if (!latency_md.empty()) {
+    md +=
+        "## Latency study\n\nEach cell: compensation on / off (the error predicted over the "
+        "measurement's age with the commands already sent).\n\n" +
+        latency_md;
+    html += "<h2>Latency study</h2>\n<p>Each cell: compensation on / off.</p>\n" +
+            latency_tables(plan, runs, true);
+  }
+  for (const pipeline::PlannedScenario& scenario : plan.scenarios) {
+    const std::vector<const CompareRun*> of = runs_of_scenario(runs, scenario.entry.name);
+    if (of.empty()) continue;
+    ReportTable table = metrics_table(false);
+    for (const CompareRun* r : of) table.add_row(metrics_cells(*r, false));
+    const std::string name = scenario.entry.name;
+    md += "## " + name + "\n\n" + scenario.entry.about + "\n\n" + table.markdown() + "\n![" + name +
+          "](plots/" + name + ".png)\n\n";
+    const fs::path series = dir / "series" / (name + ".csv");
+    write_series(series, of);
+    const std::string failure =
+        plot_scenario(series, dir / "plots" / (name + ".png"), scenario, of);
+    if (!failure.empty()) warnings.push_back("plots/" + name + ".png: " + failure);
+    html += "<h2 id=\"" + html_escape(name) + "\">" + html_escape(name) + "</h2>\n<p>" +
+            html_escape(scenario.entry.about) + "</p>\n" + table.html() +
+            (failure.empty() ? "<img src=\"plots/" + html_escape(name) + ".png\" alt=\"" +
+                                   html_escape(name) + "\">\n"
+                             : "<p>(no plot: " + html_escape(failure) + ")</p>\n");
+  }
+  html += "</body></html>\n";
+  write_text(dir / "table.md", md);
+  write_text(dir / "index.html", html);
+  return warnings;
+}
+
+double quantile_or_inf(std::vector<double> values, double p) {
+  return values.empty() ? std::numeric_limits<double>::infinity()
+                        : percentile(std::move(values), p);
+}
+
+std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const ComparePlan& plan,
+                                                  const std::vector<CompareRun>& runs) {
+  std::vector<std::string> warnings;
+  ReportTable per_run({{"run", "run"},
+                       {"controller", "controller"},
+                       {"initial_e_theta_deg", "initial e_θ (deg)"},
+                       {"initial_e_d_mm", "initial e_d (mm)"},
+                       {"settle_time_s", "settle (s)"},
+                       {"max_abs_e_d_mm", "max abs e_d (mm)"},
+                       {"max_abs_e_theta_deg", "max abs e_θ (deg)"},
+                       {"rms_e_d_mm", "RMS e_d after settling (mm)"},
+                       {"limit_violations", "limit violations"},
+                       {"control_us_per_period", "compute per period (µs)"}});
+  for (const CompareRun& r : runs) {
+    per_run.add_row({r.scenario, r.controller, fixed(rad_to_deg(r.initial_e_theta_rad), 3),
+                     fixed(1e3 * r.initial_e_d_m, 3), fixed(r.metrics.settle_time_s, 1.0, 2),
+                     fixed(1e3 * r.metrics.max_abs_e_d_m, 3),
+                     fixed(rad_to_deg(r.metrics.max_abs_e_theta_rad), 3),
+                     fixed(r.metrics.rms_e_d_m, 1e3, 4), std::to_string(r.metrics.limit_violations),
+                     fixed(r.control_us_per_period, 1)});
+  }
+  write_text(dir / "monte_carlo.csv", per_run.csv());
+
+  ReportTable table({{"controller", "controller"},
+                     {"runs", "runs"},
+                     {"settled", "settled"},
+                     {"settle_median_s", "settle median (s)"},
+                     {"settle_p95_s", "settle p95 (s)"},
+                     {"settle_worst_s", "settle worst (s)"},
+                     {"max_e_d_median_mm", "max abs e_d median (mm)"},
+                     {"max_e_d_p95_mm", "max abs e_d p95 (mm)"},
+                     {"max_e_d_worst_mm", "max abs e_d worst (mm)"},
+                     {"max_e_theta_median_deg", "max abs e_θ median (deg)"},
+                     {"max_e_theta_p95_deg", "max abs e_θ p95 (deg)"},
+                     {"max_e_theta_worst_deg", "max abs e_θ worst (deg)"},
+                     {"limit_violations", "limit violations"}});
+  for (const MonteCarloSummary& s : summarise_monte_carlo(plan, runs)) {
+    table.add_row(
+        {s.controller, std::to_string(s.runs), std::to_string(s.settled),
+         fixed(s.settle_median_s, 2), fixed(s.settle_p95_s, 2), fixed(s.settle_worst_s, 2),
+         fixed(1e3 * s.max_e_d_median_m, 2), fixed(1e3 * s.max_e_d_p95_m, 2),
+         fixed(1e3 * s.max_e_d_worst_m, 2), fixed(rad_to_deg(s.max_e_theta_median_rad), 2),
+         fixed(rad_to_deg(s.max_e_theta_p95_rad), 2), fixed(rad_to_deg(s.max_e_theta_worst_rad), 2),
+         std::to_string(s.limit_violations)});
+  }
+  write_text(dir / "summary.csv", table.csv());
+  const std::string heading = "Monte Carlo, " + std::to_string(plan.monte_carlo_runs) +
+                              " runs per controller, " + plan_heading(plan, runs.size());
+  const std::string legend =
+      "Initial errors drawn uniformly within the suite's monte_carlo bounds, a fresh noise seed "
+      "per run, the same draws for every controller. Settle time: to " +
+      fixed(1e3 * runs.front().settle_band_e_d_m, 1) + " mm / " +
+      fixed(rad_to_deg(runs.front().settle_band_e_theta_rad), 1) +
+      " deg; 'never': a run (or, for p95 and worst, enough runs) that did not settle.";
+
+  // Histograms: settle time and max |e_d|, one outline per controller.
+  std::ostringstream data;
+  std::ostringstream script;
+  const std::string csv = gnuplot_quote((dir / "monte_carlo.csv").string());
+  double settle_hi = 0.1, e_d_hi = 0.1;
+  for (const CompareRun& r : runs) {
+    if (r.metrics.settle_time_s) settle_hi = std::max(settle_hi, *r.metrics.settle_time_s);
+    e_d_hi = std::max(e_d_hi, 1e3 * r.metrics.max_abs_e_d_m);
+  }
+  const double settle_bin = settle_hi / 30.0, e_d_bin = e_d_hi / 30.0;
+  script << "set terminal pngcairo size 1100,800 font 'DejaVu Sans,11'\n"
+         << "set output " << gnuplot_quote((dir / "histograms.png").string()) << "\n"
+         << "set datafile separator ','\nset datafile missing ''\n"
+         << "set multiplot layout 2,1 title " << gnuplot_quote(heading) << " noenhanced\n"
+         << "set grid\nset key outside right top noenhanced\nset ylabel 'runs'\n"
+         << "set style fill transparent solid 0.25 border\n"
+         << "bin(x, w) = w * (floor(x / w) + 0.5)\n";
+  auto histogram = [&](const std::string& xlabel, int column, double width) {
+    script << "set xlabel " << gnuplot_quote(xlabel) << "\nset boxwidth " << width << "\nplot ";
+    for (size_t c = 0; c < plan.controllers.size(); ++c) {
+      script << (c ? ", " : "") << csv << " using (strcol(2) eq "
+             << gnuplot_quote(plan.controllers[c].name) << " && valid(" << column << ") ? bin($"
+             << column << ", " << width << ") : NaN):(1.0) every ::1 smooth frequency with boxes "
+             << "lc rgb '" << kColours[c % kColours.size()] << "' title "
+             << gnuplot_quote(plan.controllers[c].name);
+    }
+    script << "\n";
+  };
+  histogram("settle time (s), runs that settled", 5, settle_bin);
+  histogram("max abs lateral error e_d (mm)", 6, e_d_bin);
+  script << "unset multiplot\n";
+  const std::string failure = run_gnuplot(script.str());
+  if (!failure.empty()) warnings.push_back("histograms.png: " + failure);
+
+  write_text(dir / "table.md", "# agv compare: " + heading + "\n\n" + legend + "\n\n" +
+                                   table.markdown("never") + "\n![histograms](histograms.png)\n");
+  write_text(dir / "index.html",
+             "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: Monte "
+             "Carlo</title>\n" +
+                 std::string(kStyle) + "</head><body>\n<h1>agv compare: Monte Carlo</h1>\n<p>" +
+                 html_escape(heading) + ". Tables: <a href=\"summary.csv\">summary.csv</a>, " +
+                 "<a href=\"monte_carlo.csv\">monte_carlo.csv</a> (every run).</p>\n<p>" +
+                 html_escape(legend) + "</p>\n" + table.html("never") +
+                 (failure.empty() ? "<img src=\"histograms.png\" alt=\"histograms\">\n"
+                                  : "<p>(no plot: " + html_escape(failure) + ")</p>\n") +
+                 "</body></html>\n");
+  return warnings;
+}
+
+}  // namespace
+
+std::vector<MonteCarloSummary> summarise_monte_carlo(const ComparePlan& plan,
+                                                     const std::vector<CompareRun>& runs) {
+  std::vector<MonteCarloSummary> out;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const pipeline::SuiteEntry& controller : plan.controllers) {
+    MonteCarloSummary s;
+    s.controller = controller.name;
+    std::vector<double> settle, e_d, e_theta;
+    for (const CompareRun& r : runs) {
+      if (r.controller != controller.name) continue;
+      ++s.runs;
+      s.settled += r.metrics.settle_time_s ? 1 : 0;
+      s.limit_violations += r.metrics.limit_violations;
+      settle.push_back(r.metrics.settle_time_s.value_or(inf));
+      e_d.push_back(r.metrics.max_abs_e_d_m);
+      e_theta.push_back(r.metrics.max_abs_e_theta_rad);
+    }
+    if (s.runs == 0) continue;
+    s.settle_median_s = quantile_or_inf(settle, 0.5);
+    s.settle_p95_s = quantile_or_inf(settle, 0.95);
+    s.settle_worst_s = *std::max_element(settle.begin(), settle.end());
+    s.max_e_d_median_m = quantile_or_inf(e_d, 0.5);
+    s.max_e_d_p95_m = quantile_or_inf(e_d, 0.95);
+    s.max_e_d_worst_m = *std::max_element(e_d.begin(), e_d.end());
+    s.max_e_theta_median_rad = quantile_or_inf(e_theta, 0.5);
+    s.max_e_theta_p95_rad = quantile_or_inf(e_theta, 0.95);
+    s.max_e_theta_worst_rad = *std::max_element(e_theta.begin(), e_theta.end());
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<std::string> write_compare_report(const fs::path& dir, const ComparePlan& plan,
+                                              const std::vector<CompareRun>& runs) {
+  if (runs.empty()) return {"no runs to report"};
+  return plan.mode == "monte_carlo" ? write_monte_carlo_report(dir, plan, runs)
+                                    : write_suite_report(dir, plan, runs);
+}
+
+}  // namespace agv::tools
