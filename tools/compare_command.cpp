@@ -1,6 +1,7 @@
 #include "tools/compare_command.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -160,11 +161,18 @@ std::pair<ComparePlan, std::vector<CompareRun>> read_shards(const std::vector<st
 void print_summary(const ComparePlan& plan, const std::vector<CompareRun>& runs) {
   if (plan.mode == "monte_carlo") {
     for (const MonteCarloSummary& s : summarise_monte_carlo(plan, runs)) {
+      auto seconds = [](double t) {
+        char text[32];
+        if (std::isinf(t)) return std::string("never");
+        std::snprintf(text, sizeof(text), "%.2f s", t);
+        return std::string(text);
+      };
       std::printf(
-          "%-22s settled %d/%d | settle median %.2f s, p95 %.2f s | max |e_d| median "
+          "%-22s settled %d/%d | settle median %s, p95 %s | max |e_d| median "
           "%.2f mm, p95 %.2f mm, worst %.2f mm\n",
-          s.controller.c_str(), s.settled, s.runs, s.settle_median_s, s.settle_p95_s,
-          1e3 * s.max_e_d_median_m, 1e3 * s.max_e_d_p95_m, 1e3 * s.max_e_d_worst_m);
+          s.controller.c_str(), s.settled, s.runs, seconds(s.settle_median_s).c_str(),
+          seconds(s.settle_p95_s).c_str(), 1e3 * s.max_e_d_median_m, 1e3 * s.max_e_d_p95_m,
+          1e3 * s.max_e_d_worst_m);
     }
     return;
   }

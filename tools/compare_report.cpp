@@ -331,36 +331,74 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
       fixed(rad_to_deg(runs.front().settle_band_e_theta_rad), 1) +
       " deg; 'never': a run (or, for p95 and worst, enough runs) that did not settle.";
 
-  // Histograms: settle time and max |e_d|, one outline per controller.
-  std::ostringstream data;
-  std::ostringstream script;
-  const std::string csv = gnuplot_quote((dir / "monte_carlo.csv").string());
+  // Histograms of settle time and max |e_d|: counts per bin and controller, written to
+  // histograms.csv and drawn as one outline per controller.
+  const int bins = 25;
   double settle_hi = 0.1, e_d_hi = 0.1;
   for (const CompareRun& r : runs) {
     if (r.metrics.settle_time_s) settle_hi = std::max(settle_hi, *r.metrics.settle_time_s);
     e_d_hi = std::max(e_d_hi, 1e3 * r.metrics.max_abs_e_d_m);
   }
-  const double settle_bin = settle_hi / 30.0, e_d_bin = e_d_hi / 30.0;
+  const double settle_bin_s = settle_hi / bins * 1.0001, e_d_bin_mm = e_d_hi / bins * 1.0001;
+  const size_t controllers = plan.controllers.size();
+  std::vector<std::vector<int>> settle_counts(bins, std::vector<int>(controllers, 0));
+  std::vector<std::vector<int>> e_d_counts = settle_counts;
+  std::vector<int> never(controllers, 0);
+  for (const CompareRun& r : runs) {
+    const size_t c = static_cast<size_t>(
+        std::find_if(plan.controllers.begin(), plan.controllers.end(),
+                     [&](const pipeline::SuiteEntry& e) { return e.name == r.controller; }) -
+        plan.controllers.begin());
+    if (c == controllers) continue;
+    if (r.metrics.settle_time_s)
+      ++settle_counts[std::min(bins - 1, static_cast<int>(*r.metrics.settle_time_s / settle_bin_s))]
+                     [c];
+    else
+      ++never[c];
+    ++e_d_counts[std::min(bins - 1, static_cast<int>(1e3 * r.metrics.max_abs_e_d_m / e_d_bin_mm))]
+                [c];
+  }
+  std::ostringstream histograms;
+  histograms << "settle_bin_centre_s,max_e_d_bin_centre_mm";
+  for (const auto& c : plan.controllers)
+    histograms << ",settle_" << c.name << ",max_e_d_" << c.name;
+  histograms << "\n";
+  for (int b = 0; b < bins; ++b) {
+    histograms << fixed((b + 0.5) * settle_bin_s, 4) << ',' << fixed((b + 0.5) * e_d_bin_mm, 4);
+    for (size_t c = 0; c < controllers; ++c)
+      histograms << ',' << settle_counts[b][c] << ',' << e_d_counts[b][c];
+    histograms << "\n";
+  }
+  write_text(dir / "histograms.csv", histograms.str());
+
+  std::ostringstream script;
+  const std::string csv = gnuplot_quote((dir / "histograms.csv").string());
   script << "set terminal pngcairo size 1100,800 font 'DejaVu Sans,11'\n"
          << "set output " << gnuplot_quote((dir / "histograms.png").string()) << "\n"
-         << "set datafile separator ','\nset datafile missing ''\n"
+         << "set datafile separator ','\n"
          << "set multiplot layout 2,1 title " << gnuplot_quote(heading) << " noenhanced\n"
          << "set grid\nset key outside right top noenhanced\nset ylabel 'runs'\n"
-         << "set style fill transparent solid 0.25 border\n"
-         << "bin(x, w) = w * (floor(x / w) + 0.5)\n";
-  auto histogram = [&](const std::string& xlabel, int column, double width) {
-    script << "set xlabel " << gnuplot_quote(xlabel) << "\nset boxwidth " << width << "\nplot ";
-    for (size_t c = 0; c < plan.controllers.size(); ++c) {
-      script << (c ? ", " : "") << csv << " using (strcol(2) eq "
-             << gnuplot_quote(plan.controllers[c].name) << " && valid(" << column << ") ? bin($"
-             << column << ", " << width << ") : NaN):(1.0) every ::1 smooth frequency with boxes "
-             << "lc rgb '" << kColours[c % kColours.size()] << "' title "
-             << gnuplot_quote(plan.controllers[c].name);
+         << "set yrange [0:*]\nset lmargin 10\n";
+  // Whole runs on the count axis: a tick step of at least 1.
+  auto histogram = [&](const std::string& xlabel, int x_column, int first_count, bool with_never) {
+    int most = 1;
+    for (int b = 0; b < bins; ++b) {
+      for (size_t c = 0; c < controllers; ++c)
+        most = std::max(most, (first_count == 3 ? settle_counts : e_d_counts)[b][c]);
+    }
+    script << "set xlabel " << gnuplot_quote(xlabel) << "\nset ytics "
+           << std::max(1, (most + 7) / 8) << "\nplot ";
+    for (size_t c = 0; c < controllers; ++c) {
+      std::string title = plan.controllers[c].name;
+      if (with_never && never[c] > 0) title += " (" + std::to_string(never[c]) + " never settle)";
+      script << (c ? ", " : "") << csv << " using " << x_column << ":" << first_count + 2 * c
+             << " every ::1 with histeps lw 2 lc rgb '" << kColours[c % kColours.size()]
+             << "' title " << gnuplot_quote(title);
     }
     script << "\n";
   };
-  histogram("settle time (s), runs that settled", 5, settle_bin);
-  histogram("max abs lateral error e_d (mm)", 6, e_d_bin);
+  histogram("settle time (s), runs that settled", 1, 3, true);
+  histogram("max abs lateral error e_d (mm)", 2, 4, false);
   script << "unset multiplot\n";
   const std::string failure = run_gnuplot(script.str());
   if (!failure.empty()) warnings.push_back("histograms.png: " + failure);
