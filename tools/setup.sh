@@ -60,7 +60,7 @@ case "$mode" in
     echo "setup: ThreadSanitizer build, threaded tests (queue, closed loop)"
     sanitized_build build-tsan thread pipeline_tests
     cd build-tsan && TSAN_OPTIONS="suppressions=$PWD/../tests/tsan.supp halt_on_error=1" \
-      exec ctest --output-on-failure --parallel "$jobs" -R "^(BoundedQueue|ClosedLoop|Watchdog)\\." "$@"
+      exec ctest --output-on-failure --parallel "$jobs" -R "^(BoundedQueue|ClosedLoop|Watchdog|CompareRunner)\\." "$@"
     ;;
   build) ;;
   *) echo "setup: unknown mode '$mode' (simulate | test | test-plain | build)" >&2; exit 2 ;;
