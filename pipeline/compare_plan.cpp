@@ -129,14 +129,7 @@ void add_jobs(ComparePlan* plan, const PlannedScenario& scenario, bool check_con
 }  // namespace
 
 CompareSuite load_suite(const ScenarioText& source, const ScenarioText& base_default) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(source.text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source.name + ": not valid YAML at line " + std::to_string(e.mark.line + 1) +
-                     ": " + e.msg);
-  }
-  YamlReader in(root, source.name);
+  YamlReader in(parse_yaml(source.text, source.name), source.name);
   CompareSuite suite;
   suite.source_name = source.name;
   suite.text = source.text;

@@ -13,13 +13,7 @@ perception::FloorTagsFile load_floor_tags_file(const std::string& path) {
   if (!file) throw InputError(path + ": cannot be read");
   std::stringstream text;
   text << file.rdbuf();
-  YAML::Node root;
-  try {
-    root = YAML::Load(text.str());
-  } catch (const YAML::Exception& e) {
-    throw InputError(path + ": not valid YAML (" + e.msg + ")");
-  }
-  YamlReader in(root, path);
+  YamlReader in(parse_yaml(text.str(), path), path);
   perception::FloorTagsFile tags;
   tags.family = in.choice("family", tags.family, perception::AprilTagDetector::families());
   const size_t count = in.sequence_size("tags");

@@ -170,14 +170,7 @@ std::pair<std::string, std::string> split_override(const std::string& option) {
 
 Scenario load_scenario(const ScenarioText& source,
                        const std::vector<std::pair<std::string, std::string>>& overrides) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(source.text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(source.name + ": not valid YAML at line " + std::to_string(e.mark.line + 1) +
-                     ": " + e.msg);
-  }
-  YamlReader in(root, source.name);
+  YamlReader in(parse_yaml(source.text, source.name), source.name);
   for (const auto& [key, value] : overrides) in.set_override(key, value);
 
   Scenario s;

@@ -48,6 +48,15 @@ std::string generic(const std::string& key) {
 
 }  // namespace
 
+YAML::Node parse_yaml(const std::string& text, const std::string& source_name) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source_name + ": not valid YAML at line " + std::to_string(e.mark.line + 1) +
+                     ": " + e.msg);
+  }
+}
+
 YamlReader::YamlReader(YAML::Node root, std::string source_name)
     : root_(root), source_(std::move(source_name)) {
   if (!root_ || root_.IsNull()) root_ = YAML::Node(YAML::NodeType::Map);

@@ -10,6 +10,9 @@
 
 namespace agv::pipeline {
 
+// Parses YAML text; throws InputError naming `source_name` and the line of a syntax error.
+YAML::Node parse_yaml(const std::string& text, const std::string& source_name);
+
 // Reads typed values from a YAML tree by dotted key ("controller.ts_s"), checks each one
 // (type, finiteness, range, allowed words) and remembers which keys were read, so that
 // finish() can reject keys nobody asked for: a typo must not be silently ignored. Every error
