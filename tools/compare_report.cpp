@@ -237,6 +237,12 @@ std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePl
                      ". Tables: <a href=\"table.md\">table.md</a>, <a href=\"table.csv\">" +
                      "table.csv</a>; traces: series/*.csv.</p>\n<p>" + html_escape(legend) +
                      "</p>\n";
+  html += "<p>Scenarios:";
+  for (const pipeline::PlannedScenario& scenario : plan.scenarios) {
+    const std::string name = html_escape(scenario.entry.name);
+    html += " <a href=\"#" + name + "\">" + name + "</a>";
+  }
+  html += "</p>\n";
   const std::string latency_md = latency_tables(plan, runs, false);
   if (!latency_md.empty()) {
     md +=
