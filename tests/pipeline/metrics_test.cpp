@@ -70,3 +70,51 @@ TEST(Metrics, CoverageAreaOfKnownPolygons) {
 
 }  // namespace
 }  // namespace agv::pipeline
+
+namespace agv::pipeline {
+namespace {
+
+// The whole metric set of a hand-made run: the trace of SettleTimeIsTheLastReentryInterpolated
+// (e_d 10, 6, 3, 1.5, 2.5, 1, 0.5, 0 mm every 0.1 s; e_theta 0.01 rad, inside its band), lateral
+// commands 0, -0.05, -0.03, 0, 0, 0, 0, 0 m/s at path speed 0.3 m/s straight on.
+// Settle 0.4333 s (re-entry between the samples at 0.4 and 0.5 s), so the RMS after settling is
+// over the samples from t = 0.5 s: e_d 1, 0.5, 0 mm -> sqrt((1 + 0.25 + 0) / 3) mm, e_theta
+// 0.01 rad. Largest lateral acceleration: the first step, 0.05 m/s in 0.1 s = 0.5 m/s^2.
+// No overshoot (e_d never crosses zero). The scenario's default bands are 2 mm / 2 deg.
+TEST(Metrics, RunMetricsOfAHandMadeTrace) {
+  Scenario scenario;
+  scenario.path = control::Path::starting_at({-1.0, 0.0, 0.0}).add_line(5.0);  // under both wheels
+  scenario.path_speed_m_s = 0.3;
+  const std::vector<double> e_d{0.010, 0.006, 0.003, 0.0015, 0.0025, 0.001, 0.0005, 0.0};
+  const std::vector<double> vy{0.0, -0.05, -0.03, 0.0, 0.0, 0.0, 0.0, 0.0};
+  RunResult run;
+  for (size_t i = 0; i < e_d.size(); ++i) {
+    TraceRow row;
+    row.t_s = 0.1 * i;
+    row.truth.e_d_m = e_d[i];
+    row.truth.e_theta_rad = 0.01;
+    row.output.command = {0.3, vy[i], 0.0};
+    row.front_wheel = {0.3 * row.t_s + 0.2, e_d[i]};
+    row.rear_wheel = {0.3 * row.t_s - 0.2, e_d[i]};
+    run.rows.push_back(row);
+  }
+  const RunMetrics m = compute_metrics(run, scenario);
+  ASSERT_TRUE(m.settle_time_s);
+  EXPECT_NEAR(*m.settle_time_s, 0.4 + 0.1 / 3.0, 1e-12);
+  ASSERT_TRUE(m.rms_e_d_m && m.rms_e_theta_rad);
+  EXPECT_NEAR(*m.rms_e_d_m, 1e-3 * std::sqrt(1.25 / 3.0), 1e-12);
+  EXPECT_NEAR(*m.rms_e_theta_rad, 0.01, 1e-12);
+  EXPECT_DOUBLE_EQ(m.max_abs_e_d_m, 0.010);
+  EXPECT_DOUBLE_EQ(m.overshoot_e_d_m, 0.0);
+  EXPECT_NEAR(m.max_abs_v_lateral_m_s, 0.05, 1e-12);
+  EXPECT_NEAR(m.max_abs_accel_m_s2, 0.5, 1e-9);
+  EXPECT_EQ(m.limit_violations, 0);
+  // Both wheel tracks run beside the path at e_d over 0.21 m of travel; each covers the
+  // trapezoid-rule area of e_d against x: 0.03 m x sum of the interval means.
+  double area_one = 0.0;
+  for (size_t i = 0; i + 1 < e_d.size(); ++i) area_one += 0.03 * 0.5 * (e_d[i] + e_d[i + 1]);
+  EXPECT_NEAR(m.coverage_area_m2, 2.0 * area_one, 1e-12);
+}
+
+}  // namespace
+}  // namespace agv::pipeline
