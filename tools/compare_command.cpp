@@ -225,7 +225,10 @@ void add_compare_command(CLI::App& app, CompareArgs& args) {
                   "Join the output folders of all N shards into one report, the same as a single "
                   "run's (runs nothing)")
       ->type_name("DIR...")
-      ->excludes("--shard");
+      ->excludes("--shard")
+      ->excludes("--suite")
+      ->excludes("--seed")
+      ->excludes("--monte-carlo");  // the shards' plan says what was run
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
 
