@@ -17,7 +17,8 @@ namespace fs = std::filesystem;
 using agv::testing::run_agv;
 using AgvCompare = agv::testing::ScratchFolderTest;
 
-// Three controllers on two short camera scenarios: 6 runs of 1 s.
+// Three controllers on two short scenarios, one from camera frames and one from the pose (fast):
+// 6 runs of 1 s. Monte Carlo runs use the pose scenario.
 const char* kSuite = R"(name: small
 seed: 5
 controllers:
@@ -26,7 +27,9 @@ controllers:
   - {name: pid, set: {controller.kind: pid}}
 scenarios:
   - {name: table1, about: "Table 1, 1 s", set: {duration_s: 1.0}}
-  - {name: table2, about: "Table 2, 1 s", set: {duration_s: 1.0, path_speed_m_s: 0.5}}
+  - {name: table2, about: "Table 2, 1 s, pose input",
+     set: {duration_s: 1.0, path_speed_m_s: 0.5, controller.input: pose}}
+monte_carlo: {scenario: table2}
 )";
 
 std::string read(const fs::path& file) {
