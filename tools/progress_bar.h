@@ -5,7 +5,7 @@
 namespace agv::tools {
 
 // A one-line progress bar on stderr, redrawn in place when stderr is a terminal; otherwise
-// (logs, CI) it prints the label once and the 100% mark at the end.
+// (logs, CI, batch jobs) one line per tenth of the work ("label: 30%") and the 100% mark.
 class ProgressBar {
  public:
   explicit ProgressBar(std::string label, bool enabled = true);
@@ -19,6 +19,7 @@ class ProgressBar {
   bool terminal_;
   int last_percent_ = -1;
   bool finished_ = false;
+  int uncaught_at_start_ = 0;
 };
 
 }  // namespace agv::tools
