@@ -1,7 +1,9 @@
 #include "pipeline/compare_plan.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
+
 #include <filesystem>
 #include <random>
 #include <set>

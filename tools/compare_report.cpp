@@ -4,9 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <sstream>
+#include <tuple>
+
 
 #include "common/angles.h"
 #include "common/input_error.h"
