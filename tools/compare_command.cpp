@@ -16,6 +16,7 @@
 #include "tools/compare_report.h"
 #include "tools/embedded_files.h"
 #include "tools/progress_bar.h"
+#include "tools/scenario_source.h"
 
 namespace agv::tools {
 namespace {
@@ -27,22 +28,13 @@ using pipeline::CompareRun;
 constexpr const char* kPlanFile = "plan.json";
 constexpr const char* kRunsFile = "runs.jsonl";
 
-pipeline::ScenarioText builtin(const std::string& name, const std::string& label) {
-  pipeline::ScenarioText text;
-  text.text = embedded_files().at(name);
-  text.name = label;
-  text.builtin_files = embedded_files();
-  return text;
-}
-
 ComparePlan make_plan(const CompareArgs& args) {
-  pipeline::ScenarioText source = args.suite_file.empty()
-                                      ? builtin("default_suite.yaml", "built-in default suite")
-                                      : pipeline::read_scenario_file(args.suite_file);
-  source.builtin_files = embedded_files();
-  pipeline::ScenarioText base = builtin("default_scenario.yaml", "built-in default scenario");
+  const pipeline::ScenarioText source =
+      scenario_text_for_command(args.suite_file, "default_suite.yaml", "built-in default suite");
+  const pipeline::ScenarioText base =
+      scenario_text_for_command("", "default_scenario.yaml", "built-in default scenario");
   pipeline::CompareSuite suite = pipeline::load_suite(source, base);
-  suite.base.builtin_files = embedded_files();
+  suite.base.builtin_files = embedded_files();  // a suite's base_scenario file may name them
   if (args.seed >= 0) {
     suite.seed = static_cast<std::uint64_t>(args.seed);
     suite.text += "\n# --seed " + std::to_string(args.seed);  // part of the fingerprint

@@ -5,16 +5,24 @@
 
 namespace agv::tools {
 
-pipeline::Scenario load_scenario_for_command(const std::string& scenario_file,
-                                             const std::vector<std::string>& overrides) {
+pipeline::ScenarioText scenario_text_for_command(const std::string& file,
+                                                 const std::string& builtin_name,
+                                                 const std::string& label) {
   pipeline::ScenarioText source;
-  if (scenario_file.empty()) {
-    source.text = embedded_files().at("default_scenario.yaml");
-    source.name = "built-in default scenario";
+  if (file.empty()) {
+    source.text = embedded_files().at(builtin_name);
+    source.name = label;
   } else {
-    source = pipeline::read_scenario_file(scenario_file);
+    source = pipeline::read_scenario_file(file);
   }
   source.builtin_files = embedded_files();
+  return source;
+}
+
+pipeline::Scenario load_scenario_for_command(const std::string& scenario_file,
+                                             const std::vector<std::string>& overrides) {
+  const pipeline::ScenarioText source = scenario_text_for_command(
+      scenario_file, "default_scenario.yaml", "built-in default scenario");
   std::vector<std::pair<std::string, std::string>> pairs;
   for (const std::string& option : overrides) pairs.push_back(pipeline::split_override(option));
   return pipeline::load_scenario(source, pairs);

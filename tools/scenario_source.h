@@ -4,8 +4,16 @@
 #include <vector>
 
 #include "pipeline/scenario.h"
+#include "pipeline/scenario_loader.h"
 
 namespace agv::tools {
+
+// The text of a scenario (or suite) file for a command: `file`, or, when it is empty, the
+// built-in file `builtin_name` under the name `label`. Relative paths inside may name built-in
+// files. Throws InputError when the file cannot be read.
+pipeline::ScenarioText scenario_text_for_command(const std::string& file,
+                                                 const std::string& builtin_name,
+                                                 const std::string& label);
 
 // The scenario a command runs: the file given (or the built-in default scenario) with the
 // --set overrides applied. Throws InputError on bad input.
