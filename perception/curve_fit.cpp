@@ -327,6 +327,22 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
     if (settled) break;
   }
   if (scored.count < 3) return fit;
+  // Tighten: the wide band (set for seams and wear) still holds spurious edges a few millimetres
+  // off, which pull the curvature at Cauchy weights of that scale. Refine once more on the
+  // observations within 4 robust sigmas (at least 0.3 mm) at that scale, when some lie beyond;
+  // the inlier set reported stays the wide one.
+  const double fine_m = std::clamp(4.0 * scored.rms, 0.0003, t);
+  if (fine_m < t) {
+    const Scored fine = score(model, obs, fine_m);
+    if (fine.count < scored.count && fine.count >= std::max(3, scored.count / 2)) {
+      CurveModel tight = model;
+      const Eigen::Matrix3d tight_normal =
+          refine(&tight, obs, fine.observation_inliers, /*free_curvature=*/true, fine_m / 2.0);
+      model = tight;
+      normal = tight_normal;
+      scored = score(model, obs, t);
+    }
+  }
   // Residuals along a tape are correlated (floor texture, wear span many scan lines): the
   // independent-noise covariance is inflated by the integrated autocorrelation.
   const double variance = std::max(scored.plain_rms * scored.plain_rms, 1e-12) *
