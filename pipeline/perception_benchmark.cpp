@@ -139,6 +139,24 @@ double quantile(std::vector<double> v, double q) {
 
 }  // namespace
 
+NearEvidenceError error_at_nearest_evidence(const perception::LineDetection& detection,
+                                            const control::Path& path, const Pose2& pose,
+                                            double s_hint_m) {
+  const perception::DetectedLine& line = detection.lines[detection.followed];
+  const Eigen::Vector2d a = line.model.point_at(line.s_min_m),
+                        b = line.model.point_at(line.s_max_m);
+  const Eigen::Vector2d nearest_evidence = a.norm() <= b.norm() ? a : b;
+  const perception::CurveModel& model = detection.followed_model;
+  const double s_m = model.arc_position(nearest_evidence);
+  const Eigen::Vector2d on_line = pose.transform(model.point_at(s_m));
+  const Eigen::Vector2d ahead = model.point_at(s_m + 1e-3) - model.point_at(s_m - 1e-3);
+  const double yaw = pose.yaw_rad + std::atan2(ahead.y(), ahead.x());
+  const Pose2 probe{on_line.x(), on_line.y(), yaw};
+  const control::TrackingError error =
+      path.tracking_error(probe, path.project(on_line, s_hint_m, 0.8));
+  return {error.e_d_m, error.e_theta_rad};
+}
+
 PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOptions& options,
                                                    const std::function<void(double)>& progress) {
   PerceptionBenchmarkResult result;
@@ -194,6 +212,9 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
         if (m.line_found) {
           b.error_e_d_m = m.e_d_m - truth.e_d_m;
           b.error_e_theta_rad = wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad);
+          const NearEvidenceError near = error_at_nearest_evidence(detection, path, pose, s);
+          b.near_error_offset_m = near.offset_m;
+          b.near_error_heading_rad = near.heading_rad;
         }
         if (mb.line_found) {
           b.baseline_error_e_d_m = mb.e_d_m - truth.e_d_m;
@@ -220,6 +241,7 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
 
   // Figures: accuracy on frames showing at least half the tape; detection on those; false lines.
   std::vector<double> d_all, t_all, d_straight, t_straight, d_arc, t_arc, times;
+  std::vector<double> near_d, near_t;
   std::vector<double> baseline_d, baseline_t, baseline_times;
   int qualifying = 0, found = 0, empty = 0, false_lines = 0, partial = 0, partial_found = 0;
   int baseline_found = 0, baseline_false_lines = 0;
@@ -247,6 +269,8 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
     ++found;
     d_all.push_back(b.error_e_d_m);
     t_all.push_back(b.error_e_theta_rad);
+    near_d.push_back(b.near_error_offset_m);
+    near_t.push_back(b.near_error_heading_rad);
     (b.curved ? d_arc : d_straight).push_back(b.error_e_d_m);
     (b.curved ? t_arc : t_straight).push_back(b.error_e_theta_rad);
   }
@@ -264,6 +288,10 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
                    {"rms_e_theta_rad", rms(t_straight)}};
   j["arcs"] = {
       {"frames", d_arc.size()}, {"rms_e_d_m", rms(d_arc)}, {"rms_e_theta_rad", rms(t_arc)}};
+  j["at_nearest_evidence"] = {{"rms_offset_m", rms(near_d)},
+                              {"rms_heading_rad", rms(near_t)},
+                              {"p95_abs_offset_m", quantile(near_d, 0.95)},
+                              {"p95_abs_heading_rad", quantile(near_t, 0.95)}};
   j["frames_less_than_half_visible"] = partial;
   j["found_fraction_less_than_half_visible"] =
       partial ? static_cast<double>(partial_found) / partial : 0.0;

@@ -57,13 +57,15 @@ int run_evaluate(const EvaluateArgs& args) {
     pipeline::OutputFolder folder(args.out_dir);
     std::ofstream csv(folder.file("frames.csv"));
     csv << "condition,has_tape,curved,visible_fraction,line_found,error_e_d_m,error_e_theta_rad,"
-           "perceive_ms,baseline_found,baseline_error_e_d_m,baseline_error_e_theta_rad,baseline_ms,"
+           "near_error_offset_m,near_error_heading_rad,perceive_ms,baseline_found,baseline_error_e_"
+           "d_m,baseline_error_e_theta_rad,baseline_ms,"
            "conditions\n"
         << std::setprecision(9);
     for (const pipeline::BenchmarkFrame& b : result.frames) {
       csv << b.condition << ',' << b.has_tape << ',' << b.curved << ',' << b.visible_fraction << ','
           << b.line_found << ',' << b.error_e_d_m << ',' << b.error_e_theta_rad << ','
-          << b.perceive_ms << ',' << b.baseline_found << ',' << b.baseline_error_e_d_m << ','
+          << b.near_error_offset_m << ',' << b.near_error_heading_rad << ',' << b.perceive_ms << ','
+          << b.baseline_found << ',' << b.baseline_error_e_d_m << ','
           << b.baseline_error_e_theta_rad << ',' << b.baseline_ms << ',' << b.conditions_text
           << '\n';
     }
@@ -79,7 +81,9 @@ int run_evaluate(const EvaluateArgs& args) {
       "frames %d (%d show at least half the tape) | found %.1f %% | RMS e_d %.3f mm, e_theta %.3f "
       "deg "
       "(p95 %.3f mm, %.3f deg) | straight %d: %.3f mm %.3f deg | arcs %d: %.3f mm %.3f deg | "
-      "without tape: %d lines in %d frames | %.2f ms per frame\n",
+      "without tape: %d lines in %d frames | %.2f ms per frame\n"
+      "the same found frames at the nearest evidence (before extrapolation to the vehicle's "
+      "origin): RMS offset %.3f mm, heading %.3f deg (p95 %.3f mm, %.3f deg)\n",
       j["frames"].get<int>(), j["frames_half_visible"].get<int>(),
       100.0 * j["found_fraction"].get<double>(), 1e3 * j["rms_e_d_m"].get<double>(),
       rad_to_deg(j["rms_e_theta_rad"].get<double>()), 1e3 * j["p95_abs_e_d_m"].get<double>(),
@@ -89,7 +93,11 @@ int run_evaluate(const EvaluateArgs& args) {
       1e3 * j["arcs"]["rms_e_d_m"].get<double>(),
       rad_to_deg(j["arcs"]["rms_e_theta_rad"].get<double>()),
       j["lines_reported_without_tape"].get<int>(), j["frames_without_tape"].get<int>(),
-      j["perceive_ms_median"].get<double>());
+      j["perceive_ms_median"].get<double>(),
+      1e3 * j["at_nearest_evidence"]["rms_offset_m"].get<double>(),
+      rad_to_deg(j["at_nearest_evidence"]["rms_heading_rad"].get<double>()),
+      1e3 * j["at_nearest_evidence"]["p95_abs_offset_m"].get<double>(),
+      rad_to_deg(j["at_nearest_evidence"]["p95_abs_heading_rad"].get<double>()));
   const nlohmann::json& base = j["baseline_canny_hough"];
   std::printf(
       "baseline Canny+HoughLinesP on the same frames: found %.1f %% | RMS e_d %.3f mm, e_theta "
