@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <utility>
 
 namespace agv::perception {
 namespace {
@@ -137,11 +138,16 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
               (seconds_again[i] > 0) != (second_offsets[i] > 0);
     }
     if (static_cast<int>(edge_widths.size()) >= options.min_points && moved) {
-      first_offsets = std::move(firsts_again);
-      second_offsets = std::move(seconds_again);
+      std::swap(first_offsets, firsts_again);  // `edges` points at these
+      std::swap(second_offsets, seconds_again);
       const CurveFit again =
           fit_curve_robust(c.centres, edge_options, &available, &edges, &edge_fit.model);
-      if (again.ok && again.inlier_count >= options.min_points) edge_fit = again;
+      if (again.ok && again.inlier_count >= options.min_points) {
+        edge_fit = again;
+      } else {  // keep the offsets the edge fit was made with
+        std::swap(first_offsets, firsts_again);
+        std::swap(second_offsets, seconds_again);
+      }
     }
   }
 
