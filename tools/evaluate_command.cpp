@@ -17,13 +17,13 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
   CLI::App* sub = app.add_subcommand(
       "evaluate",
       "Perception accuracy over randomised rendered frames: tape colours and polarities, widths "
-      "10-50 mm, "
-      "floors, lighting, shadow, glare, noise, motion blur, camera height and tilt, lens "
-      "distortion, straight "
-      "tape and arcs of 0.3-3 m radius, plus frames without tape. Prints RMS errors on frames "
-      "showing at least "
-      "half the tape, the detection rate and the lines reported where there is no tape; and the "
-      "same figures for the usual blur + Canny + HoughLinesP detector on the same frames.");
+      "10-50 mm, floors, lighting, shadow, glare, noise, motion blur, camera height and tilt, lens "
+      "distortion, straight tape and arcs of 0.3-3 m radius, plus frames without tape. Prints "
+      "the detection rate on frames showing at least half the tape, their RMS errors at the "
+      "vehicle's origin (e_d, e_theta as DESIGN.md defines them) and at the nearest evidence "
+      "(before the line is carried back to the origin), the lines reported where there is no "
+      "tape; and the detection rate, errors at the origin and lines without tape of the usual "
+      "blur + Canny + HoughLinesP detector on the same frames.");
   sub->add_option("--conditions", args.conditions, "Random draws of camera, floor, tape and light")
       ->check(CLI::Range(1, 10000));
   sub->add_option("--frames-per-condition", args.frames_per_condition, "Poses per draw")
