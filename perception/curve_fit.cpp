@@ -24,9 +24,7 @@ CurveModel line_model(const Eigen::Vector2d& point, Eigen::Vector2d direction) {
 // Orients a model so that its direction near `near` points along `forward`.
 CurveModel oriented(const CurveModel& m, const Eigen::Vector2d& near,
                     const Eigen::Vector2d& forward) {
-  const double s = m.arc_position(near);
-  const Eigen::Vector2d ahead = m.point_at(s + 1e-3) - m.point_at(s - 1e-3);
-  return ahead.dot(forward) >= 0.0 ? m : m.reversed();
+  return m.tangent_at(m.arc_position(near)).dot(forward) >= 0.0 ? m : m.reversed();
 }
 
 // One observation of a curve: a point that should lie at signed distance `offset` from it (0: on
@@ -213,6 +211,11 @@ Eigen::Vector2d CurveModel::point_at(double s_m) const {
   const double angle = k * s_m;
   return foot_point() + (std::sin(angle) / k) * tangent() +
          ((1.0 - std::cos(angle)) / k) * normal();
+}
+
+Eigen::Vector2d CurveModel::tangent_at(double s_m) const {
+  const double yaw = heading_rad + curvature_1_m * s_m;
+  return {std::cos(yaw), std::sin(yaw)};
 }
 
 CurveModel CurveModel::reversed() const {

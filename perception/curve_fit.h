@@ -35,6 +35,8 @@ struct CurveModel {
   double arc_position(const Eigen::Vector2d& p) const;
   // Point of the curve at arc length s from the foot point.
   Eigen::Vector2d point_at(double s_m) const;
+  // Unit direction of the curve there: the tangent at the foot point turned by curvature x s.
+  Eigen::Vector2d tangent_at(double s_m) const;
   // The same curve travelled the other way.
   CurveModel reversed() const;
 

@@ -19,10 +19,8 @@ double quantile(std::vector<double> values, double q) {
 
 // Width of the tape at a chord: the chord's extent across the curve.
 double chord_width(const Chord& chord, const CurveModel& model) {
-  const double s = model.arc_position(chord.centre());
-  const Eigen::Vector2d ahead = model.point_at(s + 1e-3) - model.point_at(s - 1e-3);
-  const Eigen::Vector2d normal = Eigen::Vector2d(-ahead.y(), ahead.x()).normalized();
-  return std::abs(normal.dot(chord.a - chord.b));
+  const Eigen::Vector2d ahead = model.tangent_at(model.arc_position(chord.centre()));
+  return std::abs(Eigen::Vector2d(-ahead.y(), ahead.x()).dot(chord.a - chord.b));
 }
 
 }  // namespace

@@ -149,7 +149,7 @@ NearEvidenceError error_at_nearest_evidence(const perception::LineDetection& det
   const perception::CurveModel& model = detection.followed_model;
   const double s_m = model.arc_position(nearest_evidence);
   const Eigen::Vector2d on_line = pose.transform(model.point_at(s_m));
-  const Eigen::Vector2d ahead = model.point_at(s_m + 1e-3) - model.point_at(s_m - 1e-3);
+  const Eigen::Vector2d ahead = model.tangent_at(s_m);
   const double yaw = pose.yaw_rad + std::atan2(ahead.y(), ahead.x());
   const Pose2 probe{on_line.x(), on_line.y(), yaw};
   const control::TrackingError error =

@@ -51,6 +51,21 @@ TEST(CurveModel, StraightLineIsTheZeroCurvatureCase) {
   EXPECT_NEAR(bent.signed_distance({0.5, 0.03}), 0.02, 1e-9);
 }
 
+// A left arc of radius 0.5 m heading along x: a quarter circle on (s = pi/4 m) it heads along
+// +y; a line's direction is the same everywhere; and the direction is the derivative of
+// point_at.
+TEST(CurveModel, TangentAtTurnsWithTheCurvature) {
+  const CurveModel arc{0.01, 0.0, 2.0};
+  EXPECT_NEAR(arc.tangent_at(M_PI / 4).x(), 0.0, 1e-12);
+  EXPECT_NEAR(arc.tangent_at(M_PI / 4).y(), 1.0, 1e-12);
+  const CurveModel line{0.01, 0.3, 0.0};
+  EXPECT_NEAR((line.tangent_at(5.0) - line.tangent()).norm(), 0.0, 1e-12);
+  for (double s : {-0.3, 0.1, 0.7}) {
+    const Eigen::Vector2d slope = (arc.point_at(s + 1e-6) - arc.point_at(s - 1e-6)) / 2e-6;
+    EXPECT_NEAR((slope - arc.tangent_at(s)).norm(), 0.0, 1e-8) << s;
+  }
+}
+
 TEST(CurveModel, ReversedIsTheSameCurve) {
   const CurveModel m{0.004, 0.1, 1.5};
   const CurveModel r = m.reversed();
