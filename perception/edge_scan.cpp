@@ -133,10 +133,33 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   i = walk_to_edge(profile, peak, -1, local_first, max_dip);
   j = walk_to_edge(profile, peak, +1, local_second, max_dip);
   if (i < side || j > count - 1 - side) return std::nullopt;
+  // Third pass with both levels taken right next to each edge: floor texture varies over a few
+  // millimetres, so the floor far out differs from the floor the edge blends into. The edge
+  // lies between samples i and i + 1 (j - 1 and j); the floor's kNear samples end one sample
+  // beyond it and the tape's kNear begin one sample within, symmetric about the edge, so that the
+  // blur of the edge raises the one level as much as it lowers the other and leaves the
+  // half-way level where it is. An edge this moves by more than 2 samples (a texture blob as
+  // bright as the tape next to it) keeps the second pass's place.
+  constexpr int kNear = 4;
+  const bool room_first = i - kNear >= 0 && i + 1 + kNear < j;
+  const bool room_second = j + kNear < count && j - 1 - kNear > i;
+  const float near_first =
+      room_first ? 0.5f * (mean_of(i - kNear, i - 1) + mean_of(i + 2, i + 1 + kNear)) : local_first;
+  const float near_second = room_second
+                                ? 0.5f * (mean_of(j + 1, j + kNear) + mean_of(j - 1 - kNear, j - 2))
+                                : local_second;
+  const int i3 = walk_to_edge(profile, peak, -1, near_first, max_dip);
+  const int j3 = walk_to_edge(profile, peak, +1, near_second, max_dip);
   ProfileEdges edges;
-  edges.first = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
-  edges.second = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
   edges.contrast = contrast;
+  if (i3 >= side && std::abs(i3 - i) <= 2)
+    edges.first = i3 + (near_first - profile[i3]) / (profile[i3 + 1] - profile[i3]);
+  else
+    edges.first = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
+  if (j3 <= count - 1 - side && std::abs(j3 - j) <= 2)
+    edges.second = j3 - (near_second - profile[j3]) / (profile[j3 - 1] - profile[j3]);
+  else
+    edges.second = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
   return edges;
 }
 
