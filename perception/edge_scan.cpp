@@ -179,6 +179,20 @@ void contrast_profile(const cv::Mat& frame, const ContrastAxis& axis, bool along
     (*profile)[i] = 0.25f * (*raw)[i - 1] + 0.5f * (*raw)[i] + 0.25f * (*raw)[i + 1];
 }
 
+// Whether each end of a profile window lies on the tape rather than the floor: the median of its
+// outermost `side` samples is within a quarter of the contrast from the peak of the run
+// [run_lo, run_hi].
+std::pair<bool, bool> window_ends_on_tape(const std::vector<float>& profile, int run_lo, int run_hi,
+                                          int side, std::vector<float>* scratch) {
+  const int count = static_cast<int>(profile.size());
+  const float end_first = median_of(profile.data(), profile.data() + side, scratch);
+  const float end_second =
+      median_of(profile.data() + count - side, profile.data() + count, scratch);
+  const float peak = *std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1);
+  const float near_peak = peak - 0.25f * (peak - std::min(end_first, end_second));
+  return {end_first > near_peak, end_second > near_peak};
+}
+
 EdgePair edge_pair(const ProfileEdges& found, int lo, int line, bool along_rows) {
   EdgePair pair;
   pair.contrast = found.contrast;
@@ -215,11 +229,24 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
     for (const Run& run : runs) {
       // Up to `reach` beyond the run on each side, within the image; at least a few floor
       // samples are needed beyond each edge, else the edge is unknowable.
-      const int lo = std::max(0, run.lo * ds - reach);
-      const int hi = std::min(line_length - 1, run.hi * ds + ds - 1 + reach);
+      int lo = std::max(0, run.lo * ds - reach);
+      int hi = std::min(line_length - 1, run.hi * ds + ds - 1 + reach);
       if (run.lo * ds - lo < 2 * side || hi - (run.hi * ds + ds - 1) < 2 * side) continue;
+      contrast_profile(frame, axis, along_rows, line, lo, hi - lo + 1, &raw, &profile);
+      // The coarse run may hold only one end of the tape's width (next to a shadow's edge, say):
+      // a window ending on the tape is widened on that side once, by twice the flank.
+      const auto [first_on_tape, second_on_tape] =
+          window_ends_on_tape(profile, run.lo * ds - lo, run.hi * ds + ds - 1 - lo, side, &scratch);
+      if (first_on_tape || second_on_tape) {
+        const int wider_lo = first_on_tape ? std::max(0, lo - 2 * reach) : lo;
+        const int wider_hi = second_on_tape ? std::min(line_length - 1, hi + 2 * reach) : hi;
+        if (wider_lo != lo || wider_hi != hi) {
+          lo = wider_lo;
+          hi = wider_hi;
+          contrast_profile(frame, axis, along_rows, line, lo, hi - lo + 1, &raw, &profile);
+        }
+      }
       const int count = hi - lo + 1;
-      contrast_profile(frame, axis, along_rows, line, lo, count, &raw, &profile);
       const int run_lo = std::max(0, run.lo * ds - lo),
                 run_hi = std::min(count - 1, run.hi * ds + ds - 1 - lo);
       const auto found = find_profile_edges(profile, run_lo, run_hi, side, options.max_dip_px,

@@ -24,7 +24,9 @@ struct EdgeScanOptions {
   int margin_px = 8;  // floor samples taken beyond the coarse region on each side
   int flank_px = 0;   // and at least this far (set from the tape width in pixels:
                       // the coarse bar response covers only the tape's core)
-  float min_contrast_to_noise = 5.0f;
+  // An edge pair counts where the tape stands out by this many times the floor's spread at the
+  // coarse bar's scale (texture included; the line checks reject what texture alone gives).
+  float min_contrast_to_noise = 3.0f;
   int max_dip_px = 0;  // worn spots: dips inside the tape up to this long are crossed
   int step = 1;        // scan every step-th line
 };
