@@ -134,32 +134,50 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   j = walk_to_edge(profile, peak, +1, local_second, max_dip);
   if (i < side || j > count - 1 - side) return std::nullopt;
   // Third pass with both levels taken right next to each edge: floor texture varies over a few
-  // millimetres, so the floor far out differs from the floor the edge blends into. The edge
-  // lies between samples i and i + 1 (j - 1 and j); the floor's kNear samples end one sample
-  // beyond it and the tape's kNear begin one sample within, symmetric about the edge, so that the
-  // blur of the edge raises the one level as much as it lowers the other and leaves the
-  // half-way level where it is. An edge this moves by more than 2 samples (a texture blob as
-  // bright as the tape next to it) keeps the second pass's place.
+  // millimetres, so the floor far out differs from the floor the edge blends into. At the
+  // second pass's sub-pixel edge e, the floor's level is the mean of the profile at
+  // e -+ (kGap + k) and the tape's at e +- (kGap + k), k = 0 .. kNear - 1 (linear
+  // interpolation): symmetric about the edge, so that the blur of the edge raises the one level
+  // as much as it lowers the other and leaves the half-way level where it is. An edge this
+  // moves by more than 2 samples (a texture blob as bright as the tape next to it) keeps the
+  // second pass's place.
+  const float first_2 = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
+  const float second_2 = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
   constexpr int kNear = 4;
-  const bool room_first = i - kNear >= 0 && i + 1 + kNear < j;
-  const bool room_second = j + kNear < count && j - 1 - kNear > i;
-  const float near_first =
-      room_first ? 0.5f * (mean_of(i - kNear, i - 1) + mean_of(i + 2, i + 1 + kNear)) : local_first;
-  const float near_second = room_second
-                                ? 0.5f * (mean_of(j + 1, j + kNear) + mean_of(j - 1 - kNear, j - 2))
-                                : local_second;
-  const int i3 = walk_to_edge(profile, peak, -1, near_first, max_dip);
-  const int j3 = walk_to_edge(profile, peak, +1, near_second, max_dip);
+  constexpr float kGap = 1.5f;
+  auto at = [&](float x) {  // the profile between samples
+    const int k = std::clamp(static_cast<int>(std::floor(x)), 0, count - 2);
+    return profile[k] + (x - k) * (profile[k + 1] - profile[k]);
+  };
+  // Mean of the levels on the two sides of edge e, `outward` pointing to the floor.
+  auto half_way_at = [&](float e, float outward) {
+    float sum = 0.0f;
+    for (int k = 0; k < kNear; ++k)
+      sum += at(e + outward * (kGap + k)) + at(e - outward * (kGap + k));
+    return sum / (2 * kNear);
+  };
+  const float reach = kGap + kNear - 1;
+  // Each round moves the edge by about a quarter of the error the round before left (the
+  // windows sit on the ramps' flanks); two rounds bring a half-pixel error to a few hundredths.
   ProfileEdges edges;
   edges.contrast = contrast;
-  if (i3 >= side && std::abs(i3 - i) <= 2)
-    edges.first = i3 + (near_first - profile[i3]) / (profile[i3 + 1] - profile[i3]);
-  else
-    edges.first = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
-  if (j3 <= count - 1 - side && std::abs(j3 - j) <= 2)
-    edges.second = j3 - (near_second - profile[j3]) / (profile[j3 - 1] - profile[j3]);
-  else
-    edges.second = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
+  edges.first = first_2;
+  edges.second = second_2;
+  for (int round = 0; round < 2; ++round) {
+    const float first = edges.first, second = edges.second;
+    if (first - reach >= 0.0f && first + reach < second) {
+      const float level = half_way_at(first, -1.0f);
+      const int k = walk_to_edge(profile, peak, -1, level, max_dip);
+      if (k >= side && std::abs(k - i) <= 2)
+        edges.first = k + (level - profile[k]) / (profile[k + 1] - profile[k]);
+    }
+    if (second + reach <= count - 1 && second - reach > first) {
+      const float level = half_way_at(second, 1.0f);
+      const int k = walk_to_edge(profile, peak, +1, level, max_dip);
+      if (k <= count - 1 - side && std::abs(k - j) <= 2)
+        edges.second = k - (level - profile[k]) / (profile[k - 1] - profile[k]);
+    }
+  }
   return edges;
 }
 

@@ -1,0 +1,109 @@
+#include "perception/edge_scan.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace agv::perception {
+namespace {
+
+constexpr int kWidth = 640, kHeight = 480, kDownsample = 4;
+constexpr double kFloor = 50.0, kTape = 210.0;
+// A vertical tape whose edges are linear ramps 4 pixels wide: the grey level runs from the floor
+// at x = 296 to the tape at x = 300, and back from x = 340 to x = 344, so that the half-way
+// level (130) lies at x = 298 and x = 342 exactly (whole grey levels all along the ramps).
+constexpr double kFirstEdgePx = 298.0, kSecondEdgePx = 342.0;
+
+// The tape on a floor that is kFloor within `near_px` of the ramps and `far_level` beyond: a
+// floor texture blob as wide as the image, except next to the tape.
+cv::Mat tape_frame(double far_level, int near_px) {
+  cv::Mat frame(kHeight, kWidth, CV_8UC1);
+  for (int x = 0; x < kWidth; ++x) {
+    double v = far_level;
+    if (x >= 296 - near_px && x <= 344 + near_px) v = kFloor;
+    if (x > 296 && x < 300) v = kFloor + (kTape - kFloor) * (x - 296) / 4.0;
+    if (x >= 300 && x <= 340) v = kTape;
+    if (x > 340 && x < 344) v = kFloor + (kTape - kFloor) * (344 - x) / 4.0;
+    frame.col(x).setTo(cv::Scalar(std::round(v)));
+  }
+  return frame;
+}
+
+// Contrast 0 on the floor next to the tape, 1 on the tape.
+ContrastAxis grey_axis() {
+  ContrastAxis axis;
+  axis.weights = {static_cast<float>(1.0 / (kTape - kFloor)), 0.0f, 0.0f};
+  axis.offset = static_cast<float>(-kFloor / (kTape - kFloor));
+  return axis;
+}
+
+// A coarse stage that marked only downsampled columns [first_small, last_small] as tape, on
+// every row.
+TapeRegions coarse_columns(int first_small, int last_small) {
+  TapeRegions coarse;
+  coarse.downsample = kDownsample;
+  coarse.labels_small = cv::Mat::zeros(kHeight / kDownsample, kWidth / kDownsample, CV_32S);
+  coarse.labels_small.colRange(first_small, last_small + 1).setTo(1);
+  coarse.floor_noise = 0.01f;
+  TapeRegion region;
+  region.label = 1;
+  region.box_small = cv::Rect(first_small, 0, last_small - first_small + 1, kHeight / kDownsample);
+  coarse.regions.push_back(region);
+  return coarse;
+}
+
+EdgeScanOptions options_for_a_40_px_tape() {
+  EdgeScanOptions options;
+  options.flank_px = 24;  // 0.6 of the tape's width, as LineEstimator sets it
+  options.step = 8;
+  return options;
+}
+
+// The edges on a plain floor sit at the half-way points of the ramps. Tolerance 0.01 pixel: the
+// levels are re-taken around the edge found the round before, and each round leaves about a
+// quarter of the error before it (here 0.06 px after the second pass, 0.004 px after two more).
+TEST(EdgeScan, EdgesOfLinearRampsAtTheirHalfWayPoints) {
+  const cv::Mat frame = tape_frame(kFloor, 0);
+  const TapeRegions coarse = coarse_columns(76, 83);
+  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true,
+                                     options_for_a_40_px_tape());
+  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
+  for (const EdgePair& e : edges) {
+    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.01);
+    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.01);
+  }
+}
+
+// Floor texture brighter a few pixels away from the edges than right next to them: the edge
+// is where the image changes from the floor it touches to the tape, not half-way to the far
+// floor. Taking the far floor (90 grey levels here) as the floor level would move the
+// threshold by 20 levels, which on a ramp of 40 levels per pixel is 0.5 pixels.
+TEST(EdgeScan, FloorLevelIsTheFloorNextToTheEdge) {
+  const cv::Mat frame = tape_frame(90.0, 7);
+  const TapeRegions coarse = coarse_columns(76, 83);
+  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true,
+                                     options_for_a_40_px_tape());
+  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
+  for (const EdgePair& e : edges) {
+    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.05);
+    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.05);
+  }
+}
+
+// The coarse stage marked only the tape's leftmost 4 pixels (x 300-303): the scan window
+// (24 pixels beyond them) ends on the tape, and the tape's right edge lies outside it. The
+// window is widened on that side and both edges are found where they are.
+TEST(EdgeScan, WindowEndingOnTheTapeIsWidened) {
+  const cv::Mat frame = tape_frame(kFloor, 0);
+  const TapeRegions coarse = coarse_columns(75, 75);
+  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true,
+                                     options_for_a_40_px_tape());
+  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
+  for (const EdgePair& e : edges) {
+    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.01);
+    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.01);
+  }
+}
+
+}  // namespace
+}  // namespace agv::perception
