@@ -300,12 +300,6 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
       return std::nullopt;
     }
   }
-  // A tape shows both its edges along most of its length (only where another tape joins it does
-  // a chord end on that one); a "line" made mostly of one tape edge and texture beside it does not.
-  if (2 * line.clean_chords.size() < line.chords.size()) {
-    reject("most chords have only one edge on the line");
-    return std::nullopt;
-  }
   if (line.width_spread_m > options.width_spread_tolerance * line.width_m + 0.0005) {
     reject("tape width varies along the line");
     return std::nullopt;
