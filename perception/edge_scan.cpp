@@ -157,6 +157,12 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
     return sum / (2 * kNear);
   };
   const float reach = kGap + kNear - 1;
+  // The walk to an edge at `level` starts 3 samples inside the tape from the edge before (the
+  // peak walk would pass there on its way to any edge within 2 samples), or else at the peak.
+  auto walk_near = [&](int edge, int step, float level) {
+    const int start = step < 0 ? std::min(peak, edge + 3) : std::max(peak, edge - 3);
+    return walk_to_edge(profile, profile[start] >= level ? start : peak, step, level, max_dip);
+  };
   // Each round moves the edge by about a quarter of the error the round before left (the
   // windows sit on the ramps' flanks); two rounds bring a half-pixel error to a few hundredths.
   ProfileEdges edges;
@@ -167,13 +173,13 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
     const float first = edges.first, second = edges.second;
     if (first - reach >= 0.0f && first + reach < second) {
       const float level = half_way_at(first, -1.0f);
-      const int k = walk_to_edge(profile, peak, -1, level, max_dip);
+      const int k = walk_near(i, -1, level);
       if (k >= side && std::abs(k - i) <= 2)
         edges.first = k + (level - profile[k]) / (profile[k + 1] - profile[k]);
     }
     if (second + reach <= count - 1 && second - reach > first) {
       const float level = half_way_at(second, 1.0f);
-      const int k = walk_to_edge(profile, peak, +1, level, max_dip);
+      const int k = walk_near(j, +1, level);
       if (k <= count - 1 - side && std::abs(k - j) <= 2)
         edges.second = k - (level - profile[k]) / (profile[k - 1] - profile[k]);
     }
