@@ -52,11 +52,19 @@ TapeRegions coarse_columns(int first_small, int last_small) {
   return coarse;
 }
 
-EdgeScanOptions options_for_a_40_px_tape() {
+// Scans every 8th row of `frame` across the coarse region and expects the tape's two edges on
+// each, within tolerance_px of the ramps' half-way points.
+void expect_edges_at_half_way(const cv::Mat& frame, const TapeRegions& coarse,
+                              double tolerance_px) {
   EdgeScanOptions options;
   options.flank_px = 24;  // 0.6 of the tape's width, as LineEstimator sets it
   options.step = 8;
-  return options;
+  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true, options);
+  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
+  for (const EdgePair& e : edges) {
+    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, tolerance_px);
+    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, tolerance_px);
+  }
 }
 
 // The edges on a plain floor sit at the half-way points of the ramps. Tolerance 0.01 pixel: the
@@ -65,13 +73,7 @@ EdgeScanOptions options_for_a_40_px_tape() {
 TEST(EdgeScan, EdgesOfLinearRampsAtTheirHalfWayPoints) {
   const cv::Mat frame = tape_frame(kFloor, 0);
   const TapeRegions coarse = coarse_columns(76, 83);
-  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true,
-                                     options_for_a_40_px_tape());
-  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
-  for (const EdgePair& e : edges) {
-    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.01);
-    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.01);
-  }
+  expect_edges_at_half_way(frame, coarse, 0.01);
 }
 
 // Floor texture brighter a few pixels away from the edges than right next to them: the edge
@@ -81,13 +83,7 @@ TEST(EdgeScan, EdgesOfLinearRampsAtTheirHalfWayPoints) {
 TEST(EdgeScan, FloorLevelIsTheFloorNextToTheEdge) {
   const cv::Mat frame = tape_frame(90.0, 7);
   const TapeRegions coarse = coarse_columns(76, 83);
-  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true,
-                                     options_for_a_40_px_tape());
-  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
-  for (const EdgePair& e : edges) {
-    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.05);
-    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.05);
-  }
+  expect_edges_at_half_way(frame, coarse, 0.05);
 }
 
 // The coarse stage marked only the tape's leftmost 4 pixels (x 300-303): the scan window
@@ -96,13 +92,7 @@ TEST(EdgeScan, FloorLevelIsTheFloorNextToTheEdge) {
 TEST(EdgeScan, WindowEndingOnTheTapeIsWidened) {
   const cv::Mat frame = tape_frame(kFloor, 0);
   const TapeRegions coarse = coarse_columns(75, 75);
-  const auto edges = scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true,
-                                     options_for_a_40_px_tape());
-  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 8));
-  for (const EdgePair& e : edges) {
-    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.01);
-    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.01);
-  }
+  expect_edges_at_half_way(frame, coarse, 0.01);
 }
 
 }  // namespace
