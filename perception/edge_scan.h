@@ -33,8 +33,9 @@ struct EdgeScanOptions {
 
 // Scans one coarse region at full resolution along rows (along_rows) or columns. Every run of
 // the region on a scan line is one crossing of the tape: around it, the two places where the
-// contrast crosses half-way between the local floor level (each side separately) and the local
-// tape level. Half-way crossings of a blurred, symmetric edge sit on the true edge.
+// contrast crosses half-way between the floor's and the tape's levels right next to that edge
+// (each edge separately). Half-way crossings of a blurred, symmetric edge sit on the true edge.
+// A window that ends on the tape (the run held only part of its width) is widened once.
 std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
                                       const TapeRegions& coarse, const TapeRegion& region,
                                       bool along_rows, const EdgeScanOptions& options);
