@@ -141,8 +141,16 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   // as much as it lowers the other and leaves the half-way level where it is. An edge this
   // moves by more than 2 samples (a texture blob as bright as the tape next to it) keeps the
   // second pass's place.
-  const float first_2 = i + (local_first - profile[i]) / (profile[i + 1] - profile[i]);
-  const float second_2 = j - (local_second - profile[j]) / (profile[j - 1] - profile[j]);
+  // Sub-pixel place where the profile crosses `level` between sample k (below it, on the floor)
+  // and its neighbour towards the tape: k + 1 for the first edge, k - 1 for the second.
+  auto first_crossing = [&](int k, float level) {
+    return k + (level - profile[k]) / (profile[k + 1] - profile[k]);
+  };
+  auto second_crossing = [&](int k, float level) {
+    return k - (level - profile[k]) / (profile[k - 1] - profile[k]);
+  };
+  const float first_2 = first_crossing(i, local_first);
+  const float second_2 = second_crossing(j, local_second);
   constexpr int kNear = 4;
   constexpr float kGap = 1.5f;
   auto at = [&](float x) {  // the profile between samples
@@ -174,14 +182,12 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
     if (first - reach >= 0.0f && first + reach < second) {
       const float level = half_way_at(first, -1.0f);
       const int k = walk_near(i, -1, level);
-      if (k >= side && std::abs(k - i) <= 2)
-        edges.first = k + (level - profile[k]) / (profile[k + 1] - profile[k]);
+      if (k >= side && std::abs(k - i) <= 2) edges.first = first_crossing(k, level);
     }
     if (second + reach <= count - 1 && second - reach > first) {
       const float level = half_way_at(second, 1.0f);
       const int k = walk_near(j, +1, level);
-      if (k <= count - 1 - side && std::abs(k - j) <= 2)
-        edges.second = k - (level - profile[k]) / (profile[k - 1] - profile[k]);
+      if (k <= count - 1 - side && std::abs(k - j) <= 2) edges.second = second_crossing(k, level);
     }
   }
   return edges;
