@@ -11,9 +11,9 @@
 #include "control/finite_step_controller.h"
 #include "control/pid_controller.h"
 #include "perception/tracking_line_estimator.h"
-#include "pipeline/frame_renderer.h"
-#include "pipeline/plant.h"
-#include "pipeline/scenario_loader.h"
+#include "pipeline/config/scenario_loader.h"
+#include "pipeline/sim/frame_renderer.h"
+#include "pipeline/sim/plant.h"
 
 namespace agv::pipeline {
 namespace {

@@ -12,7 +12,7 @@
 #include "control/line_tracker.h"
 #include "control/mecanum_kinematics.h"
 #include "pipeline/bounded_queue.h"
-#include "pipeline/scenario.h"
+#include "pipeline/config/scenario.h"
 #include "pipeline/watchdog.h"
 
 namespace agv::pipeline {

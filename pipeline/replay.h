@@ -12,8 +12,8 @@
 #include "control/vehicle_limits.h"
 #include "perception/tracking_line_estimator.h"
 #include "pipeline/closed_loop.h"
+#include "pipeline/config/scenario.h"
 #include "pipeline/dataset.h"
-#include "pipeline/scenario.h"
 
 namespace agv::pipeline {
 

@@ -16,9 +16,9 @@
 #include "perception/hough_baseline.h"
 #include "perception/tracking_line_estimator.h"
 #include "pipeline/closed_loop.h"
-#include "pipeline/frame_renderer.h"
-#include "pipeline/scenario_loader.h"
-#include "tools/scenario_source.h"
+#include "pipeline/config/scenario_loader.h"
+#include "pipeline/config/scenario_source.h"
+#include "pipeline/sim/frame_renderer.h"
 
 namespace agv::tools {
 namespace {
@@ -69,7 +69,8 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
 
 int run_bench(const BenchArgs& args) {
   cv::setNumThreads(args.threads);
-  const pipeline::Scenario scenario = load_scenario_for_command(args.scenario, args.overrides);
+  const pipeline::Scenario scenario =
+      pipeline::load_scenario_for_command(args.scenario, args.overrides);
   const perception::CameraModel camera =
       perception::camera_model_of(scenario.camera, scenario.camera_name);
   const pipeline::FrameRenderer renderer(camera, pipeline::render_scene(scenario));

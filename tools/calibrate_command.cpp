@@ -15,7 +15,7 @@
 #include "perception/camera_file.h"
 #include "perception/intrinsics_calibration.h"
 #include "perception/mount_calibration.h"
-#include "pipeline/floor_tags_file.h"
+#include "pipeline/config/floor_tags_file.h"
 
 namespace agv::tools {
 namespace fs = std::filesystem;

@@ -9,14 +9,14 @@
 #include <thread>
 
 #include "common/input_error.h"
-#include "pipeline/compare_plan.h"
-#include "pipeline/compare_run.h"
-#include "pipeline/output_folder.h"
-#include "pipeline/scenario_loader.h"
+#include "pipeline/config/builtin_files.h"
+#include "pipeline/config/scenario_loader.h"
+#include "pipeline/config/scenario_source.h"
+#include "pipeline/evaluation/compare_plan.h"
+#include "pipeline/evaluation/compare_run.h"
+#include "pipeline/evaluation/output_folder.h"
 #include "tools/compare_report.h"
-#include "tools/embedded_files.h"
 #include "tools/progress_bar.h"
-#include "tools/scenario_source.h"
 
 namespace agv::tools {
 namespace {
@@ -29,12 +29,13 @@ constexpr const char* kPlanFile = "plan.json";
 constexpr const char* kRunsFile = "runs.jsonl";
 
 ComparePlan make_plan(const CompareArgs& args) {
-  const pipeline::ScenarioText source =
-      scenario_text_for_command(args.suite_file, "default_suite.yaml", "built-in default suite");
+  const pipeline::ScenarioText source = pipeline::scenario_text_for_command(
+      args.suite_file, "default_suite.yaml", "built-in default suite");
   const pipeline::ScenarioText base =
-      scenario_text_for_command("", "default_scenario.yaml", "built-in default scenario");
+      pipeline::scenario_text_for_command("", "default_scenario.yaml", "built-in default scenario");
   pipeline::CompareSuite suite = pipeline::load_suite(source, base);
-  suite.base.builtin_files = embedded_files();  // a suite's base_scenario file may name them
+  suite.base.builtin_files =
+      pipeline::builtin_files();  // a suite's base_scenario file may name them
   if (args.seed >= 0) {
     suite.seed = static_cast<std::uint64_t>(args.seed);
     suite.text += "\n# --seed " + std::to_string(args.seed);  // part of the fingerprint
@@ -193,7 +194,7 @@ void add_compare_command(CLI::App& app, CompareArgs& args) {
       "compare",
       "Runs every controller of a suite on every scenario of it (closed loop from camera "
       "images) and writes table.md, table.csv, one plot per scenario and index.html. The "
-      "built-in default suite (tools/config/default_suite.yaml) covers seed 000's Tables 1 and "
+      "built-in default suite (pipeline/config/default_suite.yaml) covers seed 000's Tables 1 and "
       "2, a larger initial error, a curve, heavy noise and blur, and a latency study (0-3 "
       "frames and a threaded run, compensation on and off). Deterministic for a given seed "
       "except the measured compute times and the threaded runs.");

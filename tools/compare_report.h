@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/compare_plan.h"
-#include "pipeline/compare_run.h"
+#include "pipeline/evaluation/compare_plan.h"
+#include "pipeline/evaluation/compare_run.h"
 
 namespace agv::tools {
 

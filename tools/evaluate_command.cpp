@@ -7,8 +7,8 @@
 
 #include "common/angles.h"
 #include "common/input_error.h"
-#include "pipeline/output_folder.h"
-#include "pipeline/perception_benchmark.h"
+#include "pipeline/evaluation/output_folder.h"
+#include "pipeline/evaluation/perception_benchmark.h"
 #include "tools/progress_bar.h"
 
 namespace agv::tools {

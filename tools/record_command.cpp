@@ -7,10 +7,10 @@
 
 #include "common/input_error.h"
 #include "pipeline/closed_loop.h"
+#include "pipeline/config/scenario_source.h"
 #include "pipeline/dataset.h"
-#include "pipeline/output_folder.h"
+#include "pipeline/evaluation/output_folder.h"
 #include "tools/progress_bar.h"
-#include "tools/scenario_source.h"
 
 namespace agv::tools {
 
@@ -34,7 +34,8 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
 }
 
 int run_record(const RecordArgs& args) {
-  const pipeline::Scenario scenario = load_scenario_for_command(args.scenario_file, args.overrides);
+  const pipeline::Scenario scenario =
+      pipeline::load_scenario_for_command(args.scenario_file, args.overrides);
   pipeline::OutputFolder folder(args.out_dir, "manifest.csv");
   perception::CameraFile camera = scenario.camera;
   camera.tape_width_m = scenario.tape.width_m;

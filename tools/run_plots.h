@@ -2,8 +2,8 @@
 
 #include <string>
 
-#include "pipeline/output_folder.h"
-#include "pipeline/scenario.h"
+#include "pipeline/config/scenario.h"
+#include "pipeline/evaluation/output_folder.h"
 
 namespace agv::tools {
 

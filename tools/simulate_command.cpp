@@ -9,14 +9,14 @@
 #include "common/input_error.h"
 #include "perception/camera_file.h"
 #include "pipeline/closed_loop.h"
-#include "pipeline/metrics.h"
-#include "pipeline/output_folder.h"
-#include "pipeline/scenario_loader.h"
-#include "pipeline/trace_csv.h"
-#include "tools/embedded_files.h"
+#include "pipeline/config/builtin_files.h"
+#include "pipeline/config/scenario_loader.h"
+#include "pipeline/config/scenario_source.h"
+#include "pipeline/evaluation/metrics.h"
+#include "pipeline/evaluation/output_folder.h"
+#include "pipeline/evaluation/trace_csv.h"
 #include "tools/progress_bar.h"
 #include "tools/run_plots.h"
-#include "tools/scenario_source.h"
 
 namespace agv::tools {
 namespace {
@@ -42,7 +42,7 @@ void add_simulate_command(CLI::App& app, SimulateArgs& args) {
       "summary.json, errors.png and path.png to the output folder and prints a one-line summary.");
   sub->add_option("--scenario", args.scenario_file,
                   "Scenario YAML (every key is shown, with its meaning, in "
-                  "tools/config/default_scenario.yaml)");
+                  "pipeline/config/default_scenario.yaml)");
   sub->add_option("--set", args.overrides,
                   "Override one scenario key, e.g. --set path_speed_m_s=0.5 --set "
                   "controller.horizon=shrinking")
@@ -54,7 +54,8 @@ void add_simulate_command(CLI::App& app, SimulateArgs& args) {
 }
 
 int run_simulate(const SimulateArgs& args) {
-  const pipeline::Scenario scenario = load_scenario_for_command(args.scenario_file, args.overrides);
+  const pipeline::Scenario scenario =
+      pipeline::load_scenario_for_command(args.scenario_file, args.overrides);
 
   pipeline::OutputFolder folder(args.out_dir);
   pipeline::RunResult run;

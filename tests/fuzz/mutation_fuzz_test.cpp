@@ -22,10 +22,10 @@
 
 #include "common/input_error.h"
 #include "perception/camera_file.h"
+#include "pipeline/config/builtin_files.h"
+#include "pipeline/config/scenario_loader.h"
 #include "pipeline/dataset.h"
 #include "pipeline/replay.h"
-#include "pipeline/scenario_loader.h"
-#include "tools/embedded_files.h"
 
 namespace agv {
 namespace {
@@ -149,8 +149,8 @@ class MutationFuzz : public ::testing::Test {
 
 TEST_F(MutationFuzz, ScenarioYaml) {
   fuzz("scenario", [](const std::string& text, const fs::path& seed) {
-    const pipeline::Scenario s =
-        pipeline::load_scenario({text, seed.filename().string(), "", tools::embedded_files()}, {});
+    const pipeline::Scenario s = pipeline::load_scenario(
+        {text, seed.filename().string(), "", pipeline::builtin_files()}, {});
     // Accepted means usable: the numbers the loop divides by or steps with are sane.
     if (!(s.duration_s > 0.0 && s.controller.ts_s > 0.0 && std::isfinite(s.path_speed_m_s)))
       throw std::logic_error("accepted a scenario with unusable timing");

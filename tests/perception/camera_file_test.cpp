@@ -101,7 +101,7 @@ TEST_F(TempDir, FileFromOpenCvCalibrationSampleLoadsAsIntrinsics) {
 
 TEST_F(TempDir, ShippedDefaultCameraLoads) {
   const CameraFile camera =
-      load_camera_file(std::string(AGV_SOURCE_DIR) + "/tools/config/default_camera.yaml");
+      load_camera_file(std::string(AGV_SOURCE_DIR) + "/pipeline/config/default_camera.yaml");
   ASSERT_TRUE(camera.mount.has_value());
   EXPECT_NEAR(camera.mount->xyz_m.x(), 0.30, 1e-12);
   EXPECT_NEAR(camera.mount->xyz_m.z(), 0.15, 1e-12);

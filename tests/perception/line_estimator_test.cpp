@@ -5,7 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "pipeline/frame_renderer.h"
+#include "pipeline/sim/frame_renderer.h"
 #include "support/test_scenes.h"
 
 namespace agv::perception {

@@ -7,7 +7,7 @@
 
 #include "common/angles.h"
 #include "common/input_error.h"
-#include "pipeline/frame_renderer.h"
+#include "pipeline/sim/frame_renderer.h"
 #include "support/test_scenes.h"
 
 namespace agv::perception {

@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "common/angles.h"
-#include "pipeline/frame_renderer.h"
+#include "pipeline/sim/frame_renderer.h"
 #include "support/test_scenes.h"
 
 namespace agv::perception {

@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "common/angles.h"
-#include "pipeline/metrics.h"
-#include "pipeline/scenario_loader.h"
-#include "tools/embedded_files.h"
+#include "pipeline/config/builtin_files.h"
+#include "pipeline/config/scenario_loader.h"
+#include "pipeline/evaluation/metrics.h"
 
 namespace agv::pipeline {
 namespace {
@@ -21,8 +21,8 @@ constexpr bool kSanitized = false;
 #endif
 
 Scenario default_with(const std::vector<std::pair<std::string, std::string>>& overrides) {
-  return load_scenario({tools::embedded_files().at("default_scenario.yaml"),
-                        "built-in default scenario", "", tools::embedded_files()},
+  return load_scenario({pipeline::builtin_files().at("default_scenario.yaml"),
+                        "built-in default scenario", "", pipeline::builtin_files()},
                        overrides);
 }
 

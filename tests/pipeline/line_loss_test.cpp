@@ -7,14 +7,14 @@
 
 #include "control/line_tracker.h"
 #include "pipeline/closed_loop.h"
-#include "pipeline/metrics.h"
-#include "tools/scenario_source.h"
+#include "pipeline/config/scenario_source.h"
+#include "pipeline/evaluation/metrics.h"
 
 namespace agv::pipeline {
 namespace {
 
 Scenario shipped(const std::string& name) {
-  return tools::load_scenario_for_command(
+  return pipeline::load_scenario_for_command(
       std::string(AGV_SOURCE_DIR) + "/scenarios/line_loss_" + name + ".yaml", {});
 }
 

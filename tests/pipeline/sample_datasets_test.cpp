@@ -5,9 +5,9 @@
 #include <vector>
 
 #include "common/angles.h"
+#include "pipeline/config/scenario_source.h"
 #include "pipeline/dataset.h"
 #include "pipeline/replay.h"
-#include "tools/scenario_source.h"
 
 namespace agv::pipeline {
 namespace {
@@ -43,7 +43,7 @@ DatasetAccuracy replay_sample(const std::string& name, const std::string& scenar
   const Dataset dataset =
       open_dataset(std::string(AGV_SOURCE_DIR) + "/datasets/" + name, "", 0.0, false);
   const Scenario scenario =
-      tools::load_scenario_for_command(std::string(AGV_SOURCE_DIR) + "/" + scenario_file, {});
+      pipeline::load_scenario_for_command(std::string(AGV_SOURCE_DIR) + "/" + scenario_file, {});
   ReplayOptions options;
   options.perception.tape.width_m = dataset.camera.tape_width_m.value_or(0.025);
   options.perception.tape.color_bgr = dataset.camera.tape_color_bgr;

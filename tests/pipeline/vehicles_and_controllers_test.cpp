@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "pipeline/closed_loop.h"
-#include "pipeline/metrics.h"
-#include "pipeline/scenario_loader.h"
-#include "tools/scenario_source.h"
+#include "pipeline/config/scenario_loader.h"
+#include "pipeline/config/scenario_source.h"
+#include "pipeline/evaluation/metrics.h"
 
 namespace agv::pipeline {
 namespace {
@@ -15,7 +15,8 @@ Scenario shipped(const std::string& name,
                  const std::vector<std::pair<std::string, std::string>>& overrides = {}) {
   std::vector<std::string> sets;
   for (const auto& [key, value] : overrides) sets.push_back(key + "=" + value);
-  return tools::load_scenario_for_command(std::string(AGV_SOURCE_DIR) + "/scenarios/" + name, sets);
+  return pipeline::load_scenario_for_command(std::string(AGV_SOURCE_DIR) + "/scenarios/" + name,
+                                             sets);
 }
 
 // Seed 004's claim: a 90 deg turn of radius 0.5 m between two straights at 0.3 m/s without

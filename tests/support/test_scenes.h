@@ -7,11 +7,11 @@
 #include "common/angles.h"
 #include "control/path.h"
 #include "perception/camera_model.h"
-#include "pipeline/scene.h"
+#include "pipeline/sim/scene.h"
 
 namespace agv::testing {
 
-// The project's default camera (tools/config/default_camera.yaml), written out here so that a
+// The project's default camera (pipeline/config/default_camera.yaml), written out here so that a
 // change to the shipped file does not silently change what tests check.
 inline perception::CameraIntrinsics default_intrinsics() {
   perception::CameraIntrinsics in;

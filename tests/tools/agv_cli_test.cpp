@@ -308,7 +308,7 @@ TEST_F(AgvCli, CalibratesTheMountFromRecordedTagFrames) {
             0);
   const Result r = run("calibrate mount --json --frames " + path("tags") + " --tags " + source +
                        "/scenarios/mount_tags_vehicle.yaml --camera " + source +
-                       "/tools/config/default_camera.yaml --out " + path("calibrated.yaml"));
+                       "/pipeline/config/default_camera.yaml --out " + path("calibrated.yaml"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
   const std::vector<double> xyz = j["mount_xyz_m"], rpy = j["mount_rpy_rad"];
@@ -324,7 +324,7 @@ TEST_F(AgvCli, CalibratesTheMountFromRecordedTagFrames) {
   std::ofstream(path("bad_tags.yaml")) << "tags:\n  - {id: 0, size_m: 0.04, x_m: 0.2}\n";
   const Result bad =
       run("calibrate mount --frames " + path("tags") + " --tags " + path("bad_tags.yaml") +
-          " --camera " + source + "/tools/config/default_camera.yaml --out " + path("x.yaml"));
+          " --camera " + source + "/pipeline/config/default_camera.yaml --out " + path("x.yaml"));
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("tags.0.y_m"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(path("x.yaml")));

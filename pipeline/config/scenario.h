@@ -1,0 +1,120 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "control/dual_steer_kinematics.h"
+#include "control/dwa_controller.h"
+#include "control/finite_step_controller.h"
+#include "control/mecanum_kinematics.h"
+#include "control/path.h"
+#include "control/pid_controller.h"
+#include "control/seed004_controller.h"
+#include "control/vehicle_limits.h"
+#include "perception/camera_file.h"
+#include "perception/line_estimator.h"
+#include "pipeline/bounded_queue.h"
+#include "pipeline/sim/frame_faults.h"
+#include "pipeline/sim/scene.h"
+
+namespace agv::pipeline {
+
+// Things on the floor that are not the guide line: tile seams and stray marks.
+struct FloorMarks {
+  double seam_spacing_m = 0.0;  // tile seams every this many metres, along x and y (0: none)
+  double seam_width_m = 0.003;
+  double seam_darkness = 0.3;  // fraction of the floor's brightness they take away
+  double marks_per_m2 = 0.0;   // stray marks: scuffs, tyre marks, short strokes
+  double mark_darkness = 0.4;
+};
+
+struct VehicleConfig {
+  std::string kind = "mecanum";  // mecanum | dual_steer
+  control::MecanumGeometry mecanum;
+  control::WheelLimits mecanum_wheels;    // mecanum: what seed 004's wheel protection keeps to
+  control::DualSteerGeometry dual_steer;  // dual_steer: form, wheelbase, steer and wheel limits
+  control::VehicleLimits limits;
+  double actuator_lag_s = 0.0;
+
+  // The wheel centres on the vehicle's centre line whose tracks make the coverage area, x in
+  // the vehicle frame: the dual steering wheels, or a Mecanum vehicle's axle centres.
+  double front_track_x_m() const {
+    return kind == "dual_steer" ? dual_steer.front_x_m() : mecanum.half_wheelbase_m;
+  }
+  double rear_track_x_m() const {
+    return kind == "dual_steer" ? dual_steer.rear_x_m() : -mecanum.half_wheelbase_m;
+  }
+};
+
+struct ControllerConfig {
+  std::string kind = "finite_step";  // finite_step | pid | seed004_ff_p | dwa | improved_dwa
+  // Where the tracking error comes from: the camera (perception of rendered frames) or the
+  // vehicle's pose (localisation, the patent's world frame; no frames are rendered).
+  std::string input = "camera";
+  double ts_s = 0.1;
+  control::FiniteStepController::Options finite_step;
+  control::PidController::Options pid;
+  control::Seed004Controller::Options seed004;  // its wheel fields come from the vehicle
+  control::DwaController::Options dwa;          // its improved and wheel fields come from the
+                                                //   kind and the vehicle
+
+  double line_lost_hold_s = 0.3;
+  bool latency_compensation = true;
+};
+
+struct MetricsConfig {
+  double settle_band_e_d_m = 0.002;                     // the paper's 2 mm
+  double settle_band_e_theta_rad = 0.0349065850398866;  // the paper's 2 deg
+};
+
+struct LoopConfig {
+  std::string mode = "lockstep";  // lockstep | threaded
+  std::size_t queue_capacity = 4;
+  QueuePolicy queue_policy = QueuePolicy::kDropOldest;
+  double time_scale = 1.0;          // threaded: simulated seconds per wall-clock second
+  double camera_fps = 0.0;          // threaded: frames per second (0: one frame per period)
+  double watchdog_timeout_s = 0.5;  // threaded: a thread silent this long is reported
+  // Threaded, for tests of the watchdog: the named thread ("camera" or "control") hangs for
+  // for_s once its clock reaches at_s.
+  struct Hang {
+    std::string thread;
+    double at_s = 0.0, for_s = 0.0;
+  };
+  std::vector<Hang> hangs;
+};
+
+// Everything one simulated run needs, read from a scenario file (see the default scenario,
+// pipeline/config/default_scenario.yaml, for every key with its meaning).
+struct Scenario {
+  std::string source_name;  // the file, or "built-in default scenario"
+  double duration_s = 5.0;
+  std::uint64_t seed = 1;
+  double path_speed_m_s = 0.3;
+  int latency_frames = 1;
+  double start_s_m = 0.5;                           // where along the path the vehicle starts
+  double initial_e_theta_rad = 0.0872664625997165;  // 5 deg
+  double initial_e_d_m = 0.010;
+  control::Path path;
+  TapeStrip tape;                          // its path is `path`
+  std::vector<control::Path> extra_paths;  // more tape of the same kind: branches, crossings
+  FloorMarks marks;
+  FloorStyle floor;
+  ImageEffects effects;
+  std::vector<FrameFault> frame_faults;     // spoiled frames (line-loss tests)
+  bool tape_color_hint = true;              // perception is told the tape colour
+  bool perception_tracking = true;          // track the line between full-frame searches
+  int perception_search_every_frames = 10;  // full-frame search at least this often
+  std::string camera_name;                  // where the camera came from
+  perception::CameraFile camera;
+  // The mount the camera really has, when it differs from the camera file's (what a wrong or
+  // outdated calibration does): frames are rendered with it, perception uses the file's.
+  std::optional<perception::MountPose> true_mount;
+  std::vector<FloorTag> floor_tags;  // AprilTags on the floor (world frame), for calibration
+  VehicleConfig vehicle;
+  ControllerConfig controller;
+  MetricsConfig metrics;
+  LoopConfig loop;
+};
+
+}  // namespace agv::pipeline

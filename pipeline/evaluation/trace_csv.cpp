@@ -1,0 +1,55 @@
+#include "pipeline/evaluation/trace_csv.h"
+
+#include <iomanip>
+
+namespace agv::pipeline {
+
+void write_trace_csv(std::ostream& out, const RunResult& run) {
+  out << "t_s,x_m,y_m,yaw_rad,true_e_theta_rad,true_e_d_m,line_found,meas_e_theta_rad,meas_e_d_m,"
+         "meas_confidence,meas_age_s,used_e_theta_rad,used_e_d_m,cmd_vx_m_s,cmd_vy_m_s,cmd_wz_rad_"
+         "s,"
+         "wheel_fl_rad_s,wheel_fr_rad_s,wheel_rl_rad_s,wheel_rr_rad_s,horizon_steps,flags,"
+         "violations,front_wheel_x_m,front_wheel_y_m,rear_wheel_x_m,rear_wheel_y_m\n";
+  out << std::setprecision(9);
+  for (const TraceRow& r : run.rows) {
+    out << r.t_s << ',' << r.pose.x_m << ',' << r.pose.y_m << ',' << r.pose.yaw_rad << ','
+        << r.truth.e_theta_rad << ',' << r.truth.e_d_m << ',';
+    if (r.has_measurement) {
+      out << (r.measurement.line_found ? 1 : 0) << ',' << r.measurement.e_theta_rad << ','
+          << r.measurement.e_d_m << ',' << r.measurement.confidence << ',' << r.measurement_age_s
+          << ',';
+    } else {
+      out << "0,,,,,";
+    }
+    if (r.output.has_estimate) {
+      out << r.output.estimate.e_theta_rad << ',' << r.output.estimate.e_d_m << ',';
+    } else {
+      out << ",,";
+    }
+    const BodyTwist& c = r.output.command;
+    out << c.vx_m_s << ',' << c.vy_m_s << ',' << c.wz_rad_s << ',' << r.wheels_rad_s[0] << ','
+        << r.wheels_rad_s[1] << ',' << r.wheels_rad_s[2] << ',' << r.wheels_rad_s[3] << ','
+        << r.output.horizon_steps << ',' << r.output.flags << ',' << r.violations << ','
+        << r.front_wheel.x() << ',' << r.front_wheel.y() << ',' << r.rear_wheel.x() << ','
+        << r.rear_wheel.y() << '\n';
+  }
+}
+
+void write_frames_csv(std::ostream& out, const RunResult& run) {
+  out << "index,t_s,true_e_theta_rad,true_e_d_m,line_found,e_theta_rad,e_d_m,confidence,points_"
+         "used,tape_width_m\n";
+  out << std::setprecision(9);
+  for (const FrameRecord& f : run.frames) {
+    const LineMeasurement& m = f.measurement;
+    out << f.index << ',' << f.stamp_s << ',' << f.truth.e_theta_rad << ',' << f.truth.e_d_m << ','
+        << (m.line_found ? 1 : 0) << ',';
+    if (m.line_found) {
+      out << m.e_theta_rad << ',' << m.e_d_m << ',' << m.confidence << ',' << m.points_used << ','
+          << m.tape_width_m << '\n';
+    } else {
+      out << ",,0,0,\n";
+    }
+  }
+}
+
+}  // namespace agv::pipeline

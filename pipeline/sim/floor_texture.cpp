@@ -1,0 +1,40 @@
+#include "pipeline/sim/floor_texture.h"
+
+#include <cmath>
+#include <opencv2/core.hpp>
+
+namespace agv::pipeline {
+
+FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t seed)
+    : texel_m_(texel_m), inverse_texel_m_(static_cast<float>(1.0 / texel_m)) {
+  const int n = kTileTexels;
+  cv::RNG rng(seed ^ 0x5eed7e47u);
+  cv::Mat white(n, n, CV_32F);
+  rng.fill(white, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::Mat spectrum;
+  cv::dft(white, spectrum, cv::DFT_COMPLEX_OUTPUT);
+  // Shape the spectrum: amplitude ~ 1/f between the feature size and 4 cm, rolled off outside.
+  // Filtering in the frequency domain keeps the tile periodic, so it wraps without seams.
+  const double tile_m = n * texel_m;
+  const double f_high = 1.0 / std::max(feature_size_m, 2.0 * texel_m);  // cycles per metre
+  const double f_low = 1.0 / 0.04;
+  for (int y = 0; y < n; ++y) {
+    const int ky = y <= n / 2 ? y : y - n;
+    for (int x = 0; x < n; ++x) {
+      const int kx = x <= n / 2 ? x : x - n;
+      const double f = std::hypot(kx, ky) / tile_m;
+      double gain = 0.0;
+      if (f > 0.0) {
+        gain = 1.0 / std::max(f, f_low) * std::exp(-(f * f) / (2.0 * f_high * f_high));
+      }
+      cv::Vec2f& c = spectrum.at<cv::Vec2f>(y, x);
+      c *= static_cast<float>(gain);
+    }
+  }
+  cv::dft(spectrum, texels_, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+  cv::Scalar mean, stddev;
+  cv::meanStdDev(texels_, mean, stddev);
+  texels_ = (texels_ - mean[0]) / std::max(stddev[0], 1e-12);
+}
+
+}  // namespace agv::pipeline

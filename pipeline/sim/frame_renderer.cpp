@@ -1,0 +1,360 @@
+#include "pipeline/sim/frame_renderer.h"
+
+#include "perception/apriltag_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "common/twist_motion.h"
+#include "pipeline/sim/tape_pieces.h"
+
+namespace agv::pipeline {
+namespace {
+
+constexpr int kNoiseMargin = 64;      // random offsets into the noise bank per frame
+constexpr float kNoiseScale = 25.0f;  // int8 noise bank: standard normal x 25, clipped at 5 sigma
+constexpr double kTexel_m = 0.0005;
+constexpr int kMaxBlurSamples = 12;
+
+}  // namespace
+
+FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene& scene)
+    : camera_(camera),
+      scene_(scene),
+      floor_map_(camera),
+      texture_(kTexel_m, scene.floor.texture_feature_m, scene.seed),
+      pieces_(tape_pieces(scene.tapes)) {
+  const int w = camera.intrinsics().width_px, h = camera.intrinsics().height_px;
+  const ImageEffects& fx = scene.effects;
+  for (const FloorTag& tag : scene.tags) {
+    perception::AprilTagDetector::Options options;
+    options.family = tag.family;
+    options.max_hamming = 0;  // only the pattern is needed
+    const perception::AprilTagDetector family(options);
+    TagPattern p;
+    p.cells = family.tag_image(tag.id);
+    p.cell_m = tag.size_m / family.size_cells();
+    p.half_extent_m = 0.5 * p.cells.cols * p.cell_m;
+    p.x_m = tag.pose.x_m;
+    p.y_m = tag.pose.y_m;
+    p.cos_yaw = std::cos(tag.pose.yaw_rad);
+    p.sin_yaw = std::sin(tag.pose.yaw_rad);
+    tag_patterns_.push_back(p);
+  }
+  // Pixels that see no floor get floor point (0, 0) and zero gain: black plus noise.
+  cv::patchNaNs(floor_x_m_ = floor_map_.x_m().clone(), 0.0);
+  cv::patchNaNs(floor_y_m_ = floor_map_.y_m().clone(), 0.0);
+  // The floor texture is sampled on a half-resolution grid and interpolated: its finest
+  // features span several pixels, so this loses nothing visible and saves 3/4 of the lookups.
+  const cv::Size texture_grid((w + 1) / 2, (h + 1) / 2);
+  cv::resize(floor_x_m_, texture_x_m_, texture_grid, 0, 0, cv::INTER_AREA);
+  cv::resize(floor_y_m_, texture_y_m_, texture_grid, 0, 0, cv::INTER_AREA);
+  gain_.create(h, w, CV_32F);
+  glare_.create(h, w, CV_32F);
+  const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
+  const double corner_sq = cx * cx + cy * cy;
+  const double gx = std::cos(fx.illumination_direction_rad),
+               gy = std::sin(fx.illumination_direction_rad);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const double du = u - cx, dv = v - cy;
+      const double vignette = 1.0 - fx.vignetting * (du * du + dv * dv) / corner_sq;
+      const double gradient = 1.0 + fx.illumination_gradient * (du / w * gx + dv / h * gy);
+      // The vehicle's shadow: a soft half-plane across the image.
+      const double across =
+          (du * std::cos(fx.shadow_direction_rad) + dv * std::sin(fx.shadow_direction_rad)) /
+          (0.5 * std::max(w, h));
+      const double softness = std::max(1e-3, fx.shadow_softness * w / (0.5 * std::max(w, h)));
+      const double shadowed = 0.5 * (1.0 + std::tanh((across - fx.shadow_offset) / softness));
+      const double shadow = 1.0 - fx.shadow_darkness * shadowed;
+      const bool sees_floor = std::isfinite(floor_map_.x_m().at<float>(v, u));
+      gain_.at<float>(v, u) =
+          sees_floor ? static_cast<float>(fx.brightness * vignette * gradient * shadow) : 0.0f;
+      // A specular glare: a Gaussian spot of added light.
+      const double gu = u - fx.specular_x * (w - 1), gv = v - fx.specular_y * (h - 1);
+      const double radius_px = std::max(1.0, fx.specular_radius * w);
+      glare_.at<float>(v, u) = static_cast<float>(
+          fx.specular_strength * std::exp(-(gu * gu + gv * gv) / (2.0 * radius_px * radius_px)));
+    }
+  }
+  // Worn tape: where a second, finer floor-texture field exceeds the level that a fraction
+  // `wear` of it exceeds (the standard normal quantile, by bisection on erfc).
+  for (const TapeStrip& strip : scene.tapes) {
+    double lo = -6.0, hi = 6.0;
+    const double fraction = std::clamp(strip.wear, 1e-9, 1.0 - 1e-9);
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (0.5 * std::erfc(mid / std::sqrt(2.0)) > fraction ? lo : hi) = mid;
+    }
+    wear_level_.push_back(static_cast<float>(0.5 * (lo + hi)));
+  }
+  // Anti-aliasing: a pixel's coverage of the tape ramps over its footprint and the tape's soft
+  // edge.
+  for (const TapeStrip& strip : scene.tapes) {
+    cv::Mat inverse_ramp(h, w, CV_32F);
+    const float softness_sq = static_cast<float>(strip.edge_softness_m * strip.edge_softness_m);
+    for (int v = 0; v < h; ++v) {
+      const float* footprint = floor_map_.footprint_m().ptr<float>(v);
+      float* out = inverse_ramp.ptr<float>(v);
+      for (int u = 0; u < w; ++u) {
+        const float f = std::isfinite(footprint[u]) ? footprint[u] : 1.0f;
+        out[u] = 1.0f / std::sqrt(f * f + softness_sq);
+      }
+    }
+    inverse_ramp_.push_back(inverse_ramp);
+  }
+  noise_bank_.create(h + kNoiseMargin, 3 * w + kNoiseMargin, CV_8S);
+  cv::RNG rng(scene.seed * 0x9E3779B97F4A7C15ull + 17);
+  for (int r = 0; r < noise_bank_.rows; ++r) {
+    auto* row = noise_bank_.ptr<signed char>(r);
+    for (int c = 0; c < noise_bank_.cols; ++c) {
+      const double z = std::clamp(rng.gaussian(1.0), -5.0, 5.0);
+      row[c] = static_cast<signed char>(std::lround(z * kNoiseScale));
+    }
+  }
+}
+
+cv::Mat FrameRenderer::render(const Pose2& pose, const BodyTwist& twist,
+                              std::uint64_t frame_index) const {
+  cv::Mat frame;
+  render_into(pose, twist, frame_index, &frame);
+  return frame;
+}
+
+void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
+                                std::uint64_t frame_index, cv::Mat* frame) const {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
+  frame->create(h, w, CV_8UC3);
+  const ImageEffects& fx = scene_.effects;
+
+  // Sub-exposure poses centred on `pose`. The tape edges (what perception measures) are
+  // integrated with poses at most 1 px of image motion apart; the floor texture, whose finest
+  // features span several pixels, with poses at most 3 px apart.
+  const double speed_m_s =
+      std::hypot(twist.vx_m_s, twist.vy_m_s) +
+      std::abs(twist.wz_rad_s) * (floor_map_.view_centre_m().norm() + floor_map_.view_radius_m());
+  const double blur_px =
+      speed_m_s * fx.exposure_s / std::max(1e-6, floor_map_.typical_footprint_m());
+  const int tape_samples = std::clamp(static_cast<int>(std::ceil(blur_px)), 1, kMaxBlurSamples);
+  const int texture_samples =
+      std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
+  struct SubPose {
+    float c, s, tx, ty;  // vehicle -> world
+    std::vector<LocalPiece> pieces;
+  };
+  auto sub_poses = [&](int count, bool with_pieces) {
+    std::vector<SubPose> poses(count);
+    for (int k = 0; k < count; ++k) {
+      const double offset_s = count == 1 ? 0.0 : fx.exposure_s * ((k + 0.5) / count - 0.5);
+      const Pose2 p = integrate_twist(pose, twist, offset_s);
+      poses[k].c = static_cast<float>(std::cos(p.yaw_rad));
+      poses[k].s = static_cast<float>(std::sin(p.yaw_rad));
+      poses[k].tx = static_cast<float>(p.x_m);
+      poses[k].ty = static_cast<float>(p.y_m);
+      if (!with_pieces) continue;
+      const Eigen::Vector2d view_world = p.transform(floor_map_.view_centre_m());
+      const Pose2 inverse = p.inverse();
+      for (const WorldPiece& piece : pieces_) {
+        const double reach_m =
+            floor_map_.view_radius_m() + piece.bound_radius_m + scene_.tapes[piece.strip].width_m;
+        if ((piece.bound_centre - view_world).norm() > reach_m) continue;
+        poses[k].pieces.push_back(to_local(piece, inverse));
+      }
+    }
+    return poses;
+  };
+  const std::vector<SubPose> tape_poses = sub_poses(tape_samples, true);
+  const std::vector<SubPose> texture_poses = sub_poses(texture_samples, false);
+
+  const int strips = static_cast<int>(scene_.tapes.size());
+  const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)),
+              centre_s = static_cast<float>(std::sin(pose.yaw_rad));
+  const float centre_tx = static_cast<float>(pose.x_m), centre_ty = static_cast<float>(pose.y_m);
+  const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
+  const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
+  const float floor_r = static_cast<float>(scene_.floor.color_bgr[2]);
+  const float floor_contrast = static_cast<float>(scene_.floor.texture_contrast);
+
+  cv::RNG frame_rng(scene_.seed * 1000003ull + frame_index * 7919ull + 1);
+  const int noise_dx = frame_rng.uniform(0, kNoiseMargin);
+  const int noise_dy = frame_rng.uniform(0, kNoiseMargin);
+  const float noise_gain = static_cast<float>(fx.noise_sigma) / kNoiseScale;
+
+  // Floor texture over the exposure, on the half-resolution grid, then interpolated.
+  cv::Mat& texture_small = workspace_.texture_small;
+  texture_small.create(texture_x_m_.size(), CV_32F);
+  texture_small.setTo(0.0f);
+  for (const SubPose& sp : texture_poses) {
+    for (int v = 0; v < texture_small.rows; ++v) {
+      const float* xs = texture_x_m_.ptr<float>(v);
+      const float* ys = texture_y_m_.ptr<float>(v);
+      float* out = texture_small.ptr<float>(v);
+      for (int u = 0; u < texture_small.cols; ++u) {
+        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx,
+                                  sp.s * xs[u] + sp.c * ys[u] + sp.ty);
+      }
+    }
+  }
+  cv::Mat& texture_image = workspace_.texture_image;
+  cv::resize(texture_small, texture_image, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
+  const float texture_scale = floor_contrast / texture_samples;
+
+  // Row buffers: every pass below is a simple loop over one image row.
+  std::vector<float> distance(w), coverage(w);
+  std::vector<float> blue(w), green(w), red(w);
+  std::vector<std::vector<float>> alpha(strips, std::vector<float>(w));
+  std::vector<bool> strip_in_row(strips);
+  cv::Mat* planes = workspace_.planes;
+  for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
+
+  for (int v = 0; v < h; ++v) {
+    const float* xs = floor_x_m_.ptr<float>(v);
+    const float* ys = floor_y_m_.ptr<float>(v);
+    const float* texture = texture_image.ptr<float>(v);
+    for (int u = 0; u < w; ++u) {
+      const float t = 1.0f + texture_scale * texture[u];
+      blue[u] = floor_b * t;
+      green[u] = floor_g * t;
+      red[u] = floor_r * t;
+    }
+
+    // Tape: coverage of each pixel by each strip, averaged over the exposure.
+    for (int i = 0; i < strips; ++i) {
+      std::fill(alpha[i].begin(), alpha[i].end(), 0.0f);
+      strip_in_row[i] = false;
+      const float* inverse_ramp = inverse_ramp_[i].ptr<float>(v);
+      const float half_width = static_cast<float>(scene_.tapes[i].width_m / 2.0);
+      for (const SubPose& sp : tape_poses) {
+        std::fill(coverage.begin(), coverage.end(), 0.0f);
+        bool any = false;
+        for (const LocalPiece& piece : sp.pieces) {
+          if (piece.strip != i) continue;
+          any = true;
+          piece_distances(piece, xs, ys, w, distance.data());
+          for (int u = 0; u < w; ++u) {
+            // min/max rather than std::clamp: the latter's branches keep this from vectorising.
+            const float a =
+                std::min(std::max(0.5f + (half_width - distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
+            coverage[u] = std::max(coverage[u], a);
+          }
+        }
+        if (!any) continue;
+        strip_in_row[i] = true;
+        for (int u = 0; u < w; ++u) alpha[i][u] += coverage[u];
+      }
+      if (!strip_in_row[i]) continue;
+      const float tape_b = static_cast<float>(scene_.tapes[i].color_bgr[0]);
+      const float tape_g = static_cast<float>(scene_.tapes[i].color_bgr[1]);
+      const float tape_r = static_cast<float>(scene_.tapes[i].color_bgr[2]);
+      const float tape_contrast =
+          static_cast<float>(scene_.tapes[i].texture_contrast) /
+          static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast
+                                                                 : 1.0);
+      const float inverse_samples = 1.0f / tape_samples;
+      if (scene_.tapes[i].wear > 0.0) {
+        // Worn patches show the floor through the tape (world-fixed, 1-20 mm across).
+        for (int u = 0; u < w; ++u) {
+          if (alpha[i][u] <= 0.0f) continue;
+          const float wx = centre_c * xs[u] - centre_s * ys[u] + centre_tx;
+          const float wy = centre_s * xs[u] + centre_c * ys[u] + centre_ty;
+          const float t = texture_.sample(2.3f * wx + 13.1f, 2.3f * wy - 7.3f);
+          alpha[i][u] *= std::clamp(1.0f - (t - wear_level_[i]) / 0.4f, 0.0f, 1.0f);
+        }
+      }
+      for (int u = 0; u < w; ++u) {
+        const float a = alpha[i][u] * inverse_samples;
+        // The tape shares the floor's texture pattern, at its own (weaker) contrast.
+        const float t = 1.0f + tape_contrast * texture_scale * texture[u];
+        blue[u] += a * (tape_b * t - blue[u]);
+        green[u] += a * (tape_g * t - green[u]);
+        red[u] += a * (tape_r * t - red[u]);
+      }
+    }
+
+    if (!tag_patterns_.empty()) draw_tags_in_row(v, pose, blue.data(), green.data(), red.data());
+
+    // Camera: vignetting and illumination gain, sensor noise, 8-bit output (one plane per
+    // channel, so that the loops vectorise; merged into BGR at the end).
+    const float* gain = gain_.ptr<float>(v);
+    const float* glare = glare_.ptr<float>(v);
+    const float* colour[3] = {blue.data(), green.data(), red.data()};
+    for (int ch = 0; ch < 3; ++ch) {
+      const signed char* noise = noise_bank_.ptr<signed char>(v + noise_dy) + noise_dx + ch * w;
+      unsigned char* out = planes[ch].ptr<unsigned char>(v);
+      const float* c = colour[ch];
+      for (int u = 0; u < w; ++u) {
+        const float value = std::min(
+            std::max(c[u] * gain[u] + glare[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
+        out[u] = static_cast<unsigned char>(static_cast<int>(value));
+      }
+    }
+  }
+  cv::merge(planes, 3, *frame);
+}
+
+void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green,
+                                     float* red) const {
+  // Printed paper: black ink and white paper levels (before the camera's gain).
+  constexpr float kBlack = 20.0f, kWhite = 230.0f;
+  constexpr int kSub = 4;  // 4 x 4 samples per pixel: edges land at sub-pixel accuracy
+  const int w = floor_x_m_.cols, h = floor_x_m_.rows;
+  const float* xs = floor_x_m_.ptr<float>(v);
+  const float* ys = floor_y_m_.ptr<float>(v);
+  const float* xs_up = floor_x_m_.ptr<float>(std::max(0, v - 1));
+  const float* ys_up = floor_y_m_.ptr<float>(std::max(0, v - 1));
+  const float* xs_down = floor_x_m_.ptr<float>(std::min(h - 1, v + 1));
+  const float* ys_down = floor_y_m_.ptr<float>(std::min(h - 1, v + 1));
+  const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
+  const double row_span = (v > 0 && v + 1 < h) ? 0.5 : 1.0;
+  for (int u = 0; u < w; ++u) {
+    if (xs[u] == 0.0f && ys[u] == 0.0f) continue;  // no floor seen
+    const int ul = std::max(0, u - 1), ur = std::min(w - 1, u + 1);
+    const double col_span = (ur - ul == 2) ? 0.5 : 1.0;
+    // The pixel's footprint on the floor (vehicle frame): centre and the steps of one pixel.
+    const double px = xs[u], py = ys[u];
+    const double ux = (xs[ur] - xs[ul]) * col_span, uy = (ys[ur] - ys[ul]) * col_span;
+    const double vx = (xs_down[u] - xs_up[u]) * row_span, vy = (ys_down[u] - ys_up[u]) * row_span;
+    for (const TagPattern& tag : tag_patterns_) {
+      // Pixel centre in the tag's frame; skip pixels clearly off the tag.
+      const double wx = c * px - s * py + pose.x_m - tag.x_m;
+      const double wy = s * px + c * py + pose.y_m - tag.y_m;
+      const double lx = tag.cos_yaw * wx + tag.sin_yaw * wy;
+      const double ly = -tag.sin_yaw * wx + tag.cos_yaw * wy;
+      const double reach =
+          tag.half_extent_m + std::abs(ux) + std::abs(uy) + std::abs(vx) + std::abs(vy);
+      if (std::abs(lx) > reach || std::abs(ly) > reach) continue;
+      float sum = 0.0f;
+      int inside = 0;
+      for (int a = 0; a < kSub; ++a) {
+        for (int b = 0; b < kSub; ++b) {
+          const double fu = (a + 0.5) / kSub - 0.5, fv = (b + 0.5) / kSub - 0.5;
+          const double qx = px + fu * ux + fv * vx, qy = py + fu * uy + fv * vy;
+          const double tx = c * qx - s * qy + pose.x_m - tag.x_m;
+          const double ty = s * qx + c * qy + pose.y_m - tag.y_m;
+          const double tag_x = tag.cos_yaw * tx + tag.sin_yaw * ty;
+          const double tag_y = -tag.sin_yaw * tx + tag.cos_yaw * ty;
+          // The tag image's columns run along the tag's x, its rows against its y (seen from
+          // above, the printed tag is not mirrored).
+          const int col = static_cast<int>(std::floor((tag_x + tag.half_extent_m) / tag.cell_m));
+          const int row = static_cast<int>(std::floor((tag.half_extent_m - tag_y) / tag.cell_m));
+          if (col < 0 || row < 0 || col >= tag.cells.cols || row >= tag.cells.rows) continue;
+          ++inside;
+          sum += tag.cells.at<unsigned char>(row, col) ? kWhite : kBlack;
+        }
+      }
+      if (inside == 0) continue;
+      const float a = static_cast<float>(inside) / (kSub * kSub);
+      const float level = sum / inside;
+      blue[u] += a * (level - blue[u]);
+      green[u] += a * (level - green[u]);
+      red[u] += a * (level - red[u]);
+    }
+  }
+}
+
+}  // namespace agv::pipeline
