@@ -17,7 +17,7 @@ struct VehicleLimits {
   double alpha_max_rad_s2 = 4.0;
 };
 
-// Bits of LimitCheck::violated.
+// Bits of what check_limits returns.
 enum LimitViolation : std::uint32_t {
   kViolatesForwardSpeed = 1u << 0,
   kViolatesLateralSpeed = 1u << 1,

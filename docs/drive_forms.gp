@@ -1,5 +1,5 @@
 # Regenerate docs/drive_forms.png: run the three drive forms of scenarios/dual_steer_improved_dwa_pose.yaml
-# into /tmp/sc/form_{both_steer,rear_drive,front_drive} (agv simulate --set vehicle.drive_form=F --out ...),
+# into /tmp/sc/form_{both_steer,rear_drive,front_drive} (agv simulate --set vehicle.dual_steer.drive_form=F --out ...),
 # and once into /tmp/sc/form_path for path.csv, then: gnuplot docs/drive_forms.gp
 set terminal pngcairo size 1500,520 font "sans,10" noenhanced
 set output "docs/drive_forms.png"

@@ -74,7 +74,8 @@ class TruthTracker {
 
 Plant make_plant(const Scenario& s) {
   Plant::Options options{s.vehicle.actuator_lag_s, std::nullopt};
-  if (s.vehicle.kind == "dual_steer") options.dual_steer = s.vehicle.dual_steer;
+  if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive))
+    options.dual_steer = *dual;
   return Plant(start_pose(s), start_twist(s), options);
 }
 
@@ -92,9 +93,9 @@ TraceRow make_row(const Scenario& s, double t_s, const Pose2& pose,
     row.measurement_age_s = t_s - newest->measurement.stamp_s;
   }
   row.output = output;
-  row.wheels_rad_s = control::mecanum_inverse(s.vehicle.mecanum, output.command);
-  row.front_wheel = pose.transform({s.vehicle.front_track_x_m(), 0.0});
-  row.rear_wheel = pose.transform({s.vehicle.rear_track_x_m(), 0.0});
+  row.wheels = control::wheel_command(s.vehicle.drive, output.command);
+  row.front_wheel = pose.transform({control::front_track_x_m(s.vehicle.drive), 0.0});
+  row.rear_wheel = pose.transform({control::rear_track_x_m(s.vehicle.drive), 0.0});
   row.violations =
       control::check_limits(output.command, previous_command, s.vehicle.limits, s.controller.ts_s);
   return row;
@@ -120,33 +121,40 @@ perception::CameraModel render_camera(const Scenario& s) {
 std::unique_ptr<control::PathController> make_controller(const ControllerConfig& config,
                                                          const VehicleConfig& vehicle,
                                                          const control::Path* planned_path) {
-  if (config.kind == "pid") return std::make_unique<control::PidController>(config.pid);
-  if (config.kind == "seed004_ff_p") {
-    control::Seed004Controller::Options options = config.seed004;
-    if (vehicle.kind == "mecanum") {
-      options.mecanum = vehicle.mecanum;
-      options.wheel_limits = vehicle.mecanum_wheels;
+  switch (config.kind) {
+    case ControllerKind::kFiniteStep:
+      return std::make_unique<control::FiniteStepController>(config.finite_step);
+    case ControllerKind::kPid:
+      return std::make_unique<control::PidController>(config.pid);
+    case ControllerKind::kSeed004FfP: {
+      control::Seed004Controller::Options options = config.seed004;
+      if (const auto* mecanum = std::get_if<control::MecanumDrive>(&vehicle.drive)) {
+        options.mecanum = mecanum->geometry;
+        options.wheel_limits = mecanum->wheel_limits;
+      }
+      return std::make_unique<control::Seed004Controller>(options);
     }
-    return std::make_unique<control::Seed004Controller>(options);
+    case ControllerKind::kDwa:
+    case ControllerKind::kImprovedDwa:
+      break;
   }
-  if (config.kind == "dwa" || config.kind == "improved_dwa") {
-    control::DwaController::Options options = config.dwa;
-    options.improved = config.kind == "improved_dwa";
-    options.front_wheel_x_m = vehicle.front_track_x_m();
-    options.rear_wheel_x_m = vehicle.rear_track_x_m();
-    if (planned_path) options.planned_path = std::make_shared<const control::Path>(*planned_path);
-    if (vehicle.kind == "dual_steer") {
-      options.max_wheel_speed_m_s = vehicle.dual_steer.max_wheel_speed_m_s;
-      options.max_steer_rad = vehicle.dual_steer.max_steer_rad;
-      options.front_steers = vehicle.dual_steer.front_steers();
-      options.rear_steers = vehicle.dual_steer.rear_steers();
-    } else {  // Mecanum wheels do not steer; their rims turn at most this fast
-      options.max_wheel_speed_m_s =
-          vehicle.mecanum_wheels.max_wheel_speed_rad_s * vehicle.mecanum.wheel_radius_m;
-      options.front_steers = options.rear_steers = false;
-    }
-    return std::make_unique<control::DwaController>(options);
+  control::DwaController::Options options = config.dwa;
+  options.improved = config.kind == ControllerKind::kImprovedDwa;
+  options.front_wheel_x_m = control::front_track_x_m(vehicle.drive);
+  options.rear_wheel_x_m = control::rear_track_x_m(vehicle.drive);
+  if (planned_path) options.planned_path = std::make_shared<const control::Path>(*planned_path);
+  if (const auto* dual = std::get_if<control::DualSteerGeometry>(&vehicle.drive)) {
+    options.max_wheel_speed_m_s = dual->max_wheel_speed_m_s;
+    options.max_steer_rad = dual->max_steer_rad;
+    options.front_steers = dual->front_steers();
+    options.rear_steers = dual->rear_steers();
+  } else {  // Mecanum wheels do not steer; their rims turn at most this fast
+    const auto& mecanum = std::get<control::MecanumDrive>(vehicle.drive);
+    options.max_wheel_speed_m_s =
+        mecanum.wheel_limits.max_wheel_speed_rad_s * mecanum.geometry.wheel_radius_m;
+    options.front_steers = options.rear_steers = false;
   }
+  return std::make_unique<control::DwaController>(options);
   return std::make_unique<control::FiniteStepController>(config.finite_step);
 }
 
@@ -159,7 +167,7 @@ RunResult run_lockstep(const Scenario& s, const Progress& progress, const FrameS
   Plant plant = make_plant(s);
   TruthTracker truth_of(s.path, s.start_s_m);
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, QueuePolicy::kDropOldest);
-  const bool pose_input = s.controller.input == "pose";
+  const bool pose_input = s.controller.input == ControllerInput::kPose;
   const double setup_wall_s = seconds_since(wall_start);
   std::deque<StampedMeasurement> in_flight;  // taken, not yet delivered (latency)
 
@@ -237,7 +245,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   Plant plant = make_plant(s);
   double tick_s = 0.0;
   BodyTwist active_command = start_twist(s);
-  const bool pose_input = s.controller.input == "pose";
+  const bool pose_input = s.controller.input == ControllerInput::kPose;
 
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, s.loop.queue_policy);
   std::atomic<bool> stop{false};
@@ -249,7 +257,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
                     std::max(s.loop.watchdog_timeout_s, 2.0 * std::max(frame_period_s, ts)),
                     wall_start, s.loop.time_scale);
   // Injected hangs (tests): each thread hangs once at each of its hang times.
-  auto hang_if_due = [&](const std::string& thread, double t, std::vector<bool>* done) {
+  auto hang_if_due = [&](LoopThread thread, double t, std::vector<bool>* done) {
     for (size_t h = 0; h < s.loop.hangs.size(); ++h) {
       const LoopConfig::Hang& hang = s.loop.hangs[h];
       if (hang.thread != thread || (*done)[h] || t < hang.at_s) continue;
@@ -267,14 +275,15 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
       const double t = i * frame_period_s;
       if (t > s.duration_s + s.latency_frames * ts) break;
       std::this_thread::sleep_until(wall_time_of(t));
-      hang_if_due("camera", t, &hung);
+      hang_if_due(LoopThread::kCamera, t, &hung);
       watchdog.beat(kCameraThread);
       Pose2 pose;
       BodyTwist twist;
       {
         std::lock_guard<std::mutex> lock(state_mutex);
         // The wheels' twist (dual steer) or the command, held since the last tick.
-        twist = s.vehicle.kind == "dual_steer" ? plant.twist() : active_command;
+        twist =
+            s.vehicle.kind() == control::VehicleKind::kDualSteer ? plant.twist() : active_command;
         pose = integrate_twist(plant.pose(), twist, std::max(0.0, t - tick_s));
       }
       const control::TrackingError truth = truth_of(pose);
@@ -315,7 +324,7 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
   for (int k = 0; k < periods; ++k) {
     const double t = k * ts;
     std::this_thread::sleep_until(wall_time_of(t));
-    hang_if_due("control", t, &hung);
+    hang_if_due(LoopThread::kControl, t, &hung);
     watchdog.beat(kControlThread);
     result.max_tick_lateness_s =
         std::max(result.max_tick_lateness_s, seconds_since(wall_start) - t / s.loop.time_scale);
@@ -355,8 +364,8 @@ RunResult run_threaded(const Scenario& s, const Progress& progress) {
 }
 
 RunResult run_scenario(const Scenario& scenario, const Progress& progress) {
-  return scenario.loop.mode == "threaded" ? run_threaded(scenario, progress)
-                                          : run_lockstep(scenario, progress);
+  return scenario.loop.mode == LoopMode::kThreaded ? run_threaded(scenario, progress)
+                                                   : run_lockstep(scenario, progress);
 }
 
 }  // namespace agv::pipeline

@@ -10,7 +10,7 @@
 #include "common/line_measurement.h"
 #include "common/pose2.h"
 #include "control/line_tracker.h"
-#include "control/mecanum_kinematics.h"
+#include "control/vehicle_drive.h"
 #include "pipeline/bounded_queue.h"
 #include "pipeline/config/scenario.h"
 #include "pipeline/watchdog.h"
@@ -33,8 +33,9 @@ struct TraceRow {
   LineMeasurement measurement;   // the newest measurement it had
   double measurement_age_s = 0.0;
   control::TrackerOutput output;  // command, flags, what the controller acted on
-  control::MecanumWheelSpeeds wheels_rad_s = control::MecanumWheelSpeeds::Zero();
-  // World positions of the wheel centres on the centre line (VehicleConfig::*_track_x_m).
+  control::WheelCommand wheels =  // what the command asks of the vehicle's wheels
+      control::MecanumWheelSpeeds(control::MecanumWheelSpeeds::Zero());
+  // World positions of the wheel centres on the centre line (control::front_track_x_m).
   Eigen::Vector2d front_wheel = Eigen::Vector2d::Zero();
   Eigen::Vector2d rear_wheel = Eigen::Vector2d::Zero();
   std::uint32_t violations = 0;  // control::LimitViolation bits of the command

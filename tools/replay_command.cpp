@@ -141,7 +141,8 @@ int run_replay_command(const ReplayArgs& args) {
       args.dataset, args.camera, 0.0, /*allow_missing_frames=*/args.skip_bad_frames);
   pipeline::ReplayOptions options;
   options.skip_bad_frames = args.skip_bad_frames;
-  options.controller.kind = args.controller;
+  for (const auto& [word, kind] : pipeline::kControllerKindWords)
+    if (word == args.controller) options.controller.kind = kind;
   options.path_speed_m_s = args.path_speed_m_s;
   options.perception.branch = perception::parse_branch_choice(args.branch);
   options.perception.tracking = !args.no_tracking;

@@ -45,7 +45,7 @@ void add_simulate_command(CLI::App& app, SimulateArgs& args) {
                   "pipeline/config/default_scenario.yaml)");
   sub->add_option("--set", args.overrides,
                   "Override one scenario key, e.g. --set path_speed_m_s=0.5 --set "
-                  "controller.horizon=shrinking")
+                  "controller.finite_step.horizon=shrinking")
       ->type_name("KEY=VALUE");
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
   sub->add_flag("--json", args.json, "Print summary.json on stdout instead of the summary line");

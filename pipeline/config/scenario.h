@@ -3,18 +3,19 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
-#include "control/dual_steer_kinematics.h"
 #include "control/dwa_controller.h"
 #include "control/finite_step_controller.h"
-#include "control/mecanum_kinematics.h"
 #include "control/path.h"
 #include "control/pid_controller.h"
 #include "control/seed004_controller.h"
+#include "control/vehicle_drive.h"
 #include "control/vehicle_limits.h"
 #include "perception/camera_file.h"
 #include "perception/line_estimator.h"
-#include "pipeline/bounded_queue.h"
+#include "pipeline/bounded_queue.h"  // QueuePolicy
 #include "pipeline/sim/frame_faults.h"
 #include "pipeline/sim/scene.h"
 
@@ -29,36 +30,31 @@ struct FloorMarks {
   double mark_darkness = 0.4;
 };
 
+// The vehicle: how it drives (one struct per kind) and what it can do.
 struct VehicleConfig {
-  std::string kind = "mecanum";  // mecanum | dual_steer
-  control::MecanumGeometry mecanum;
-  control::WheelLimits mecanum_wheels;    // mecanum: what seed 004's wheel protection keeps to
-  control::DualSteerGeometry dual_steer;  // dual_steer: form, wheelbase, steer and wheel limits
+  control::VehicleDrive drive = control::MecanumDrive{};
   control::VehicleLimits limits;
-  double actuator_lag_s = 0.0;
+  double actuator_lag_s = 0.0;  // Mecanum: first-order lag of the wheel drives (0: none)
 
-  // The wheel centres on the vehicle's centre line whose tracks make the coverage area, x in
-  // the vehicle frame: the dual steering wheels, or a Mecanum vehicle's axle centres.
-  double front_track_x_m() const {
-    return kind == "dual_steer" ? dual_steer.front_x_m() : mecanum.half_wheelbase_m;
-  }
-  double rear_track_x_m() const {
-    return kind == "dual_steer" ? dual_steer.rear_x_m() : -mecanum.half_wheelbase_m;
-  }
+  control::VehicleKind kind() const { return control::kind_of(drive); }
 };
 
+enum class ControllerKind { kFiniteStep, kPid, kSeed004FfP, kDwa, kImprovedDwa };
+// Where the tracking error comes from: the camera (perception of the frames) or the vehicle's
+// pose (localisation, the patent's world frame; no frames are rendered).
+enum class ControllerInput { kCamera, kPose };
+
+// The controller and its settings: one options struct per law, so that a suite can switch the
+// kind over one file holding every law's gains.
 struct ControllerConfig {
-  std::string kind = "finite_step";  // finite_step | pid | seed004_ff_p | dwa | improved_dwa
-  // Where the tracking error comes from: the camera (perception of rendered frames) or the
-  // vehicle's pose (localisation, the patent's world frame; no frames are rendered).
-  std::string input = "camera";
+  ControllerKind kind = ControllerKind::kFiniteStep;
+  ControllerInput input = ControllerInput::kCamera;
   double ts_s = 0.1;
   control::FiniteStepController::Options finite_step;
   control::PidController::Options pid;
   control::Seed004Controller::Options seed004;  // its wheel fields come from the vehicle
   control::DwaController::Options dwa;          // its improved and wheel fields come from the
                                                 //   kind and the vehicle
-
   double line_lost_hold_s = 0.3;
   bool latency_compensation = true;
 };
@@ -68,21 +64,45 @@ struct MetricsConfig {
   double settle_band_e_theta_rad = 0.0349065850398866;  // the paper's 2 deg
 };
 
+enum class LoopMode { kLockstep, kThreaded };
+enum class LoopThread { kCamera, kControl };
+
 struct LoopConfig {
-  std::string mode = "lockstep";  // lockstep | threaded
+  LoopMode mode = LoopMode::kLockstep;
   std::size_t queue_capacity = 4;
   QueuePolicy queue_policy = QueuePolicy::kDropOldest;
   double time_scale = 1.0;          // threaded: simulated seconds per wall-clock second
-  double camera_fps = 0.0;          // threaded: frames per second (0: one frame per period)
+  double camera_fps = 0.0;          // frames per second (0: one frame per control period)
   double watchdog_timeout_s = 0.5;  // threaded: a thread silent this long is reported
-  // Threaded, for tests of the watchdog: the named thread ("camera" or "control") hangs for
-  // for_s once its clock reaches at_s.
+  // Threaded, for tests of the watchdog: the thread hangs for for_s once its clock reaches at_s.
   struct Hang {
-    std::string thread;
+    LoopThread thread = LoopThread::kCamera;
     double at_s = 0.0, for_s = 0.0;
   };
   std::vector<Hang> hangs;
 };
+
+// The words scenario files use for each choice, in the order of the enum.
+inline const std::vector<std::pair<std::string, control::VehicleKind>> kVehicleKindWords = {
+    {"mecanum", control::VehicleKind::kMecanum}, {"dual_steer", control::VehicleKind::kDualSteer}};
+inline const std::vector<std::pair<std::string, ControllerKind>> kControllerKindWords = {
+    {"finite_step", ControllerKind::kFiniteStep},
+    {"pid", ControllerKind::kPid},
+    {"seed004_ff_p", ControllerKind::kSeed004FfP},
+    {"dwa", ControllerKind::kDwa},
+    {"improved_dwa", ControllerKind::kImprovedDwa}};
+inline const std::vector<std::pair<std::string, ControllerInput>> kControllerInputWords = {
+    {"camera", ControllerInput::kCamera}, {"pose", ControllerInput::kPose}};
+inline const std::vector<std::pair<std::string, LoopMode>> kLoopModeWords = {
+    {"lockstep", LoopMode::kLockstep}, {"threaded", LoopMode::kThreaded}};
+
+// The word for a choice (as scenario files write it).
+template <typename Enum>
+const std::string& word_of(const std::vector<std::pair<std::string, Enum>>& words, Enum value) {
+  for (const auto& [word, v] : words)
+    if (v == value) return word;
+  return words.front().first;  // unreachable for a complete table
+}
 
 // Everything one simulated run needs, read from a scenario file (see the default scenario,
 // pipeline/config/default_scenario.yaml, for every key with its meaning).

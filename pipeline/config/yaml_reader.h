@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace agv::pipeline {
@@ -35,6 +36,21 @@ class YamlReader {
   std::string text(const std::string& key, const std::string& fallback);
   std::string choice(const std::string& key, const std::string& fallback,
                      const std::vector<std::string>& allowed);
+  // One of the words in `words`, as its enum value.
+  template <typename Enum>
+  Enum choice(const std::string& key, Enum fallback,
+              const std::vector<std::pair<std::string, Enum>>& words) {
+    std::string fallback_word;
+    std::vector<std::string> allowed;
+    for (const auto& [word, value] : words) {
+      allowed.push_back(word);
+      if (value == fallback) fallback_word = word;
+    }
+    const std::string chosen = choice(key, fallback_word, allowed);
+    for (const auto& [word, value] : words)
+      if (word == chosen) return value;
+    return fallback;
+  }
   std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback,
                               size_t count, double min, double max);
   // Number of elements of a sequence of maps (0 when absent); its elements are read with

@@ -54,8 +54,8 @@ std::vector<SuiteEntry> read_entries(YamlReader& in, const std::string& key, boo
     entry.settings = in.settings(prefix + "set");
     if (controllers) {
       for (size_t v = 0; v < in.sequence_size(prefix + "vehicles"); ++v) {
-        entry.vehicles.push_back(
-            in.choice(prefix + "vehicles." + std::to_string(v), "", {"mecanum", "dual_steer"}));
+        entry.vehicles.push_back(in.choice(prefix + "vehicles." + std::to_string(v),
+                                           control::VehicleKind::kMecanum, kVehicleKindWords));
       }
     }
     entries.push_back(std::move(entry));
@@ -114,8 +114,9 @@ void add_jobs(ComparePlan* plan, const PlannedScenario& scenario, bool check_con
   const int scenario_index = static_cast<int>(plan->scenarios.size()) - 1;
   for (size_t c = 0; c < plan->controllers.size(); ++c) {
     const SuiteEntry& controller = plan->controllers[c];
-    const std::vector<std::string>& kinds = controller.vehicles;
-    if (!kinds.empty() && std::find(kinds.begin(), kinds.end(), loaded.vehicle.kind) == kinds.end())
+    const std::vector<control::VehicleKind>& kinds = controller.vehicles;
+    if (!kinds.empty() &&
+        std::find(kinds.begin(), kinds.end(), loaded.vehicle.kind()) == kinds.end())
       continue;
     if (check_controllers) {
       Settings all = scenario.entry.settings;
@@ -266,7 +267,9 @@ namespace {
 nlohmann::json entry_json(const SuiteEntry& e) {
   nlohmann::json settings = nlohmann::json::array();
   for (const auto& [key, value] : e.settings) settings.push_back({key, value});
-  return {{"name", e.name}, {"about", e.about}, {"settings", settings}, {"vehicles", e.vehicles}};
+  nlohmann::json vehicles = nlohmann::json::array();
+  for (control::VehicleKind kind : e.vehicles) vehicles.push_back(word_of(kVehicleKindWords, kind));
+  return {{"name", e.name}, {"about", e.about}, {"settings", settings}, {"vehicles", vehicles}};
 }
 
 SuiteEntry entry_from(const nlohmann::json& j) {
@@ -275,7 +278,15 @@ SuiteEntry entry_from(const nlohmann::json& j) {
   e.about = j.at("about").get<std::string>();
   for (const auto& pair : j.at("settings"))
     e.settings.emplace_back(pair.at(0).get<std::string>(), pair.at(1).get<std::string>());
-  e.vehicles = j.at("vehicles").get<std::vector<std::string>>();
+  for (const auto& word : j.at("vehicles")) {
+    bool known = false;
+    for (const auto& [name, kind] : kVehicleKindWords) {
+      if (name != word.get<std::string>()) continue;
+      e.vehicles.push_back(kind);
+      known = true;
+    }
+    if (!known) throw InputError("unknown vehicle kind '" + word.get<std::string>() + "'");
+  }
   return e;
 }
 

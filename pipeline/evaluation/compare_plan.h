@@ -20,7 +20,7 @@ struct SuiteEntry {
   std::string name;  // a word: letters, digits, '_' and '-' (it names files)
   std::string about;
   Settings settings;
-  std::vector<std::string> vehicles;  // controllers: vehicle kinds it runs on (empty: all)
+  std::vector<control::VehicleKind> vehicles;  // controllers: vehicle kinds it runs on (empty: all)
 };
 
 // How latency degrades each controller: `scenario` with each latency in `frames` and a threaded

@@ -167,7 +167,7 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["scenario"] = s.source_name;
   j["camera"] = s.camera_name;
   j["controller"] = run.controller_name;
-  j["mode"] = s.loop.mode;
+  j["mode"] = word_of(kLoopModeWords, s.loop.mode);
   j["seed"] = s.seed;
   j["ts_s"] = s.controller.ts_s;
   j["duration_s"] = s.duration_s;

@@ -1,15 +1,40 @@
 #include "pipeline/evaluation/trace_csv.h"
 
 #include <iomanip>
+#include <variant>
 
 namespace agv::pipeline {
 
+namespace {
+
+// The wheel columns of the vehicle the run drove: four Mecanum wheel speeds, or the steer angle
+// and ground speed of each of two steering wheels.
+const char* wheel_columns(const RunResult& run) {
+  const bool dual_steer =
+      !run.rows.empty() && std::holds_alternative<control::DualSteerWheels>(run.rows[0].wheels);
+  return dual_steer ? "front_steer_rad,front_speed_m_s,rear_steer_rad,rear_speed_m_s"
+                    : "wheel_fl_rad_s,wheel_fr_rad_s,wheel_rl_rad_s,wheel_rr_rad_s";
+}
+
+void write_wheels(std::ostream& out, const control::WheelCommand& wheels) {
+  if (const auto* w = std::get_if<control::DualSteerWheels>(&wheels)) {
+    out << w->front_steer_rad << ',' << w->front_speed_m_s << ',' << w->rear_steer_rad << ','
+        << w->rear_speed_m_s;
+    return;
+  }
+  const control::MecanumWheelSpeeds& w = std::get<control::MecanumWheelSpeeds>(wheels);
+  out << w[0] << ',' << w[1] << ',' << w[2] << ',' << w[3];
+}
+
+}  // namespace
+
 void write_trace_csv(std::ostream& out, const RunResult& run) {
   out << "t_s,x_m,y_m,yaw_rad,true_e_theta_rad,true_e_d_m,line_found,meas_e_theta_rad,meas_e_d_m,"
-         "meas_confidence,meas_age_s,used_e_theta_rad,used_e_d_m,cmd_vx_m_s,cmd_vy_m_s,cmd_wz_rad_"
-         "s,"
-         "wheel_fl_rad_s,wheel_fr_rad_s,wheel_rl_rad_s,wheel_rr_rad_s,horizon_steps,flags,"
-         "violations,front_wheel_x_m,front_wheel_y_m,rear_wheel_x_m,rear_wheel_y_m\n";
+         "meas_confidence,meas_age_s,used_e_theta_rad,used_e_d_m,cmd_vx_m_s,cmd_vy_m_s,"
+         "cmd_wz_rad_s,"
+      << wheel_columns(run)
+      << ",horizon_steps,flags,violations,front_wheel_x_m,front_wheel_y_m,rear_wheel_x_m,"
+         "rear_wheel_y_m\n";
   out << std::setprecision(9);
   for (const TraceRow& r : run.rows) {
     out << r.t_s << ',' << r.pose.x_m << ',' << r.pose.y_m << ',' << r.pose.yaw_rad << ','
@@ -27,9 +52,9 @@ void write_trace_csv(std::ostream& out, const RunResult& run) {
       out << ",,";
     }
     const BodyTwist& c = r.output.command;
-    out << c.vx_m_s << ',' << c.vy_m_s << ',' << c.wz_rad_s << ',' << r.wheels_rad_s[0] << ','
-        << r.wheels_rad_s[1] << ',' << r.wheels_rad_s[2] << ',' << r.wheels_rad_s[3] << ','
-        << r.output.horizon_steps << ',' << r.output.flags << ',' << r.violations << ','
+    out << c.vx_m_s << ',' << c.vy_m_s << ',' << c.wz_rad_s << ',';
+    write_wheels(out, r.wheels);
+    out << ',' << r.output.horizon_steps << ',' << r.output.flags << ',' << r.violations << ','
         << r.front_wheel.x() << ',' << r.front_wheel.y() << ',' << r.rear_wheel.x() << ','
         << r.rear_wheel.y() << '\n';
   }

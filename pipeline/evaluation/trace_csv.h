@@ -8,7 +8,8 @@
 namespace agv::pipeline {
 
 // trace.csv: one row per control period. Columns: time, true pose, true and measured errors,
-// what the controller acted on, the command, wheel speeds, measurement age and flags.
+// what the controller acted on, the command, what it asks of the wheels (Mecanum: four wheel
+// speeds; dual steer: steer angle and speed of each wheel), measurement age and flags.
 void write_trace_csv(std::ostream& out, const RunResult& run);
 
 // frames.csv: one row per camera frame, perception against ground truth.

@@ -1,14 +1,6 @@
 #include "pipeline/sim/frame_faults.h"
 
-#include <stdexcept>
-
 namespace agv::pipeline {
-
-FrameFault::Kind parse_frame_fault_kind(const std::string& name) {
-  if (name == "covered") return FrameFault::Kind::kCovered;
-  if (name == "flash") return FrameFault::Kind::kFlash;
-  throw std::invalid_argument("expected covered or flash");
-}
 
 void apply_frame_faults(const std::vector<FrameFault>& faults, double t_s,
                         std::uint64_t frame_index, cv::Mat* frame) {

@@ -17,8 +17,6 @@ struct FrameFault {
   double from_s = 0.0, to_s = 0.0;  // frames taken at from_s <= t < to_s are spoiled
 };
 
-FrameFault::Kind parse_frame_fault_kind(const std::string& name);  // throws std::invalid_argument
-
 // Applies the faults active at time t_s to the frame (in place); frame_index seeds the noise.
 void apply_frame_faults(const std::vector<FrameFault>& faults, double t_s,
                         std::uint64_t frame_index, cv::Mat* frame);

@@ -32,19 +32,20 @@ TEST(VehiclesAndControllers, Seed004TurnsWithoutStoppingAndEndsAtTheEndPose) {
   EXPECT_LT(m.max_abs_e_d_m, 0.005);
   EXPECT_EQ(m.limit_violations, 0);
   const double turn_from_s = 1.0, turn_to_s = 1.0 + 0.5 * M_PI / 2;
+  const auto& drive = std::get<control::MecanumDrive>(s.vehicle.drive);
   control::MecanumWheelSpeeds previous =
-      control::mecanum_inverse(s.vehicle.mecanum, {s.path_speed_m_s, 0.0, 0.0});
+      control::mecanum_inverse(drive.geometry, {s.path_speed_m_s, 0.0, 0.0});
   for (const TraceRow& row : run.rows) {
     const control::PathProjection foot = s.path.project(row.pose.translation());
     if (foot.s_m > turn_from_s && foot.s_m < turn_to_s) {
       EXPECT_GT(row.output.command.vx_m_s, 0.25) << "slowed down in the turn at " << row.t_s;
     }
-    EXPECT_LE(row.wheels_rad_s.cwiseAbs().maxCoeff(),
-              s.vehicle.mecanum_wheels.max_wheel_speed_rad_s * (1 + 1e-9));
-    EXPECT_LE((row.wheels_rad_s - previous).cwiseAbs().maxCoeff(),
-              s.vehicle.mecanum_wheels.max_wheel_accel_rad_s2 * s.controller.ts_s * (1 + 1e-9))
+    const auto& wheels = std::get<control::MecanumWheelSpeeds>(row.wheels);
+    EXPECT_LE(wheels.cwiseAbs().maxCoeff(), drive.wheel_limits.max_wheel_speed_rad_s * (1 + 1e-9));
+    EXPECT_LE((wheels - previous).cwiseAbs().maxCoeff(),
+              drive.wheel_limits.max_wheel_accel_rad_s2 * s.controller.ts_s * (1 + 1e-9))
         << "at " << row.t_s;
-    previous = row.wheels_rad_s;
+    previous = wheels;
   }
   const Eigen::Vector2d end = s.path.point_at(s.path.length_m());
   EXPECT_LT((run.rows.back().pose.translation() - end).norm(), 0.005);
@@ -62,7 +63,7 @@ TEST(VehiclesAndControllers, DriveFormOneSweepsTheLeastCoverageArea) {
   const char* forms[3] = {"both_steer", "rear_drive", "front_drive"};
   for (int i = 0; i < 3; ++i) {
     const Scenario s =
-        shipped("dual_steer_improved_dwa_pose.yaml", {{"vehicle.drive_form", forms[i]}});
+        shipped("dual_steer_improved_dwa_pose.yaml", {{"vehicle.dual_steer.drive_form", forms[i]}});
     const RunResult run = run_lockstep(s);
     const RunMetrics m = compute_metrics(run, s);
     area_m2[i] = m.coverage_area_m2;

@@ -23,7 +23,7 @@ const char* kSuite = R"(name: small
 seed: 5
 controllers:
   - {name: shrinking, set: {controller.kind: finite_step}}
-  - {name: fixed, set: {controller.kind: finite_step, controller.horizon: fixed}}
+  - {name: fixed, set: {controller.kind: finite_step, controller.finite_step.horizon: fixed}}
   - {name: pid, set: {controller.kind: pid}}
 scenarios:
   - {name: table1, about: "Table 1, 1 s", set: {duration_s: 1.0}}

@@ -49,7 +49,7 @@ TEST(ScenarioLoader, DefaultScenarioIsTable1) {
 
 TEST(ScenarioLoader, SetOverridesAnyKey) {
   const Scenario s = load_scenario(builtin(), {{"path_speed_m_s", "0.5"},
-                                               {"controller.horizon", "fixed"},
+                                               {"controller.finite_step.horizon", "fixed"},
                                                {"tape.color_bgr", "[0, 200, 255]"},
                                                {"path.segments.0.length_m", "7.5"}});
   EXPECT_DOUBLE_EQ(s.path_speed_m_s, 0.5);
@@ -86,7 +86,9 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
       {"", {{"controller.ts_s", "-0.1"}}, {"--set controller.ts_s=-0.1", "controller.ts_s"}},
       {"", {{"controler.ts_s", "0.1"}}, {"--set controler.ts_s=0.1", "unknown key"}},
       {"", {{"path_speed_m_s", "2.0"}}, {"path_speed_m_s", "v_forward_max"}},
-      {"controller:\n  n_min: 12\n  n_max: 10\n", {}, {"controller.n_min"}},
+      {"controller:\n  finite_step: {n_min: 12, n_max: 10}\n",
+       {},
+       {"controller.finite_step.n_min"}},
       {"frame_faults:\n  - {kind: covered, from_s: 2.0, to_s: 1.0}\n", {}, {"frame_faults.0"}},
       {"frame_faults:\n  - {kind: smoke, from_s: 1.0, to_s: 2.0}\n", {}, {"frame_faults.0.kind"}},
       {"",
@@ -101,11 +103,26 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
       // Bad paths: a zero-length line, a radius of 0, a Hermite turn over 90 deg, a segment
       // whose stated start is not where the path ends, a Hermite piece to its own start.
       // Impossible vehicles: wheels too slow for the path speed, a steer range past 90 deg.
-      {"vehicle:\n  kind: dual_steer\n  max_wheel_speed_m_s: 0.2\n",
+      {"vehicle:\n  kind: dual_steer\n  dual_steer: {max_wheel_speed_m_s: 0.2}\n",
        {},
-       {"vehicle.max_wheel_speed_m_s", "path_speed_m_s"}},
-      {"vehicle:\n  max_wheel_speed_rad_s: 3.0\n", {}, {"vehicle.max_wheel_speed_rad_s"}},
-      {"vehicle:\n  kind: dual_steer\n  max_steer_rad: 2.0\n", {}, {"vehicle.max_steer_rad"}},
+       {"vehicle.dual_steer.max_wheel_speed_m_s", "path_speed_m_s"}},
+      {"vehicle:\n  mecanum: {max_wheel_speed_rad_s: 3.0}\n",
+       {},
+       {"vehicle.mecanum.max_wheel_speed_rad_s"}},
+      {"vehicle:\n  kind: dual_steer\n  dual_steer: {max_steer_rad: 2.0}\n",
+       {},
+       {"vehicle.dual_steer.max_steer_rad"}},
+      {"vehicle:\n  kind: dual_steer\n  actuator_lag_s: 0.05\n",
+       {},
+       {"vehicle.actuator_lag_s", "steer rate"}},
+      // Settings of another vehicle kind than the one named, and a --set that switches the kind
+      // of a file that describes a Mecanum drive.
+      {"vehicle:\n  dual_steer: {wheelbase_m: 1.2}\n",
+       {},
+       {"test.yaml", "vehicle.dual_steer", "applies to vehicle.kind dual_steer", "is mecanum"}},
+      {"vehicle:\n  mecanum: {wheel_radius_m: 0.06}\n",
+       {{"vehicle.kind", "dual_steer"}},
+       {"vehicle.mecanum", "is dual_steer"}},
       {"path:\n  segments:\n    - {kind: line, length_m: 0.0}\n", {}, {"path.segments.0.length_m"}},
       {"path:\n  segments:\n    - {kind: arc, radius_m: 0, angle_rad: 1.0}\n",
        {},
@@ -131,6 +148,45 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
     }
   }
   EXPECT_THROW(split_override("no_equals_sign"), InputError);
+}
+
+// Files written before the vehicle and controller settings were grouped by kind: each old key
+// is refused with the key it moved to, whichever way it was given.
+TEST(ScenarioLoader, AnOldFlatKeySaysWhereItMoved) {
+  const std::pair<std::string, std::string> moves[] = {
+      {"vehicle:\n  wheel_radius_m: 0.05\n", "vehicle.mecanum.wheel_radius_m"},
+      {"vehicle:\n  drive_form: rear_drive\n", "vehicle.dual_steer.drive_form"},
+      {"controller:\n  horizon: fixed\n", "controller.finite_step.horizon"},
+      {"controller:\n  n_max: 8\n", "controller.finite_step.n_max"},
+      {"controller:\n  a_max_m_s2: 0.05\n", "controller.finite_step.a_max_m_s2"},
+  };
+  for (const auto& [yaml, moved_to] : moves) {
+    const std::string message = error_of(text(yaml), {});
+    EXPECT_NE(message.find("test.yaml"), std::string::npos) << message;
+    EXPECT_NE(message.find("moved to '" + moved_to + "'"), std::string::npos) << message;
+  }
+  const std::string message = error_of(text(""), {{"controller.horizon", "fixed"}});
+  EXPECT_NE(message.find("--set controller.horizon=fixed"), std::string::npos) << message;
+  EXPECT_NE(message.find("controller.finite_step.horizon"), std::string::npos) << message;
+}
+
+// Each choice is parsed once into its enum, and a vehicle holds only its own kind's settings.
+TEST(ScenarioLoader, ChoicesAreTypedAndTheVehicleHoldsItsOwnKind) {
+  const Scenario mecanum = load_scenario(text("vehicle:\n  mecanum: {wheel_radius_m: 0.06}\n"), {});
+  ASSERT_EQ(mecanum.vehicle.kind(), control::VehicleKind::kMecanum);
+  EXPECT_DOUBLE_EQ(std::get<control::MecanumDrive>(mecanum.vehicle.drive).geometry.wheel_radius_m,
+                   0.06);
+  const Scenario dual = load_scenario(builtin(), {{"vehicle.kind", "dual_steer"},
+                                                  {"vehicle.dual_steer.drive_form", "front_drive"},
+                                                  {"controller.kind", "improved_dwa"},
+                                                  {"controller.input", "pose"},
+                                                  {"loop.mode", "threaded"}});
+  ASSERT_EQ(dual.vehicle.kind(), control::VehicleKind::kDualSteer);
+  EXPECT_EQ(std::get<control::DualSteerGeometry>(dual.vehicle.drive).form,
+            control::DriveForm::kFrontDriveRear);
+  EXPECT_EQ(dual.controller.kind, ControllerKind::kImprovedDwa);
+  EXPECT_EQ(dual.controller.input, ControllerInput::kPose);
+  EXPECT_EQ(dual.loop.mode, LoopMode::kThreaded);
 }
 
 TEST(ScenarioLoader, CameraPathIsRelativeToTheScenarioFile) {

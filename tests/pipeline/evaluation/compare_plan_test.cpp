@@ -70,7 +70,7 @@ TEST(ComparePlan, EveryControllerOnEveryScenarioItsVehicleAllows) {
   const Scenario last = job_scenario(plan, plan.jobs.back());
   EXPECT_EQ(last.latency_frames, 2);
   EXPECT_FALSE(last.controller.latency_compensation);
-  EXPECT_EQ(last.controller.kind, "pid");
+  EXPECT_EQ(last.controller.kind, ControllerKind::kPid);
   EXPECT_DOUBLE_EQ(last.duration_s, 1.0);
   EXPECT_EQ(last.seed, 3u);
   EXPECT_TRUE(plan.scenarios[5].latency_label == "2" && !plan.scenarios[5].compensation);
