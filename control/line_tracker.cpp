@@ -77,4 +77,14 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
   return out;
 }
 
+TrackerOutput LineTracker::brake(double now_s) {
+  TrackerOutput out;
+  out.flags = kStopping;
+  out.command = limit_command(BodyTwist{}, previous_command_, limits_, options_.ts_s);
+  if (differs(out.command, BodyTwist{})) out.flags |= kSaturated;
+  history_.record(now_s, out.command);
+  previous_command_ = out.command;
+  return out;
+}
+
 }  // namespace agv::control

@@ -52,6 +52,10 @@ class LineTracker {
   // previous call, if any.
   TrackerOutput step(const std::optional<LineMeasurement>& newest, double now_s);
 
+  // One control period at now_s of a vehicle told to stop (the run is ending): the command
+  // brakes towards standstill within the limits, flagged kStopping.
+  TrackerOutput brake(double now_s);
+
   const PathController& controller() const { return *controller_; }
 
  private:

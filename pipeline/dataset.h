@@ -13,38 +13,43 @@
 
 namespace agv::pipeline {
 
-// One frame of a recorded dataset (a row of manifest.csv), with its ground truth if recorded.
+// One frame of a recorded dataset (a row of manifest.csv), with its ground truth and wheel
+// odometry if recorded.
 struct DatasetRow {
   int index = 0;
   double t_s = 0.0;
-  std::string file;                             // relative to the dataset folder; empty for video
+  std::string file;                             // relative to the dataset folder
   std::optional<Pose2> pose;                    // x_m, y_m, yaw_rad
   std::optional<control::TrackingError> truth;  // e_theta_rad, e_d_m
-  int line = 0;                                 // line number in manifest.csv, for messages
+  std::optional<Pose2> odometry;                // odom_x_m, odom_y_m, odom_yaw_rad
+  int line = 0;  // line number in manifest.csv, for messages (0: a bare folder)
 };
 
 // A recorded dataset (shared/DESIGN.md): frames/ (PNG or JPEG) listed by manifest.csv
-// (index,t_s,file then optional x_m,y_m,yaw_rad,e_theta_rad,e_d_m) and camera.yaml; or a
-// single video file, whose frames are timed by its frame rate.
+// (index,t_s,file then optional x_m,y_m,yaw_rad,e_theta_rad,e_d_m and
+// odom_x_m,odom_y_m,odom_yaw_rad) and camera.yaml; or a bare folder of images, in name order,
+// timed by a frame rate, without ground truth.
 struct Dataset {
   std::filesystem::path root;
-  std::string manifest;  // path of manifest.csv ("" for a video)
+  std::string manifest;  // path of manifest.csv ("" for a bare folder)
   std::vector<DatasetRow> rows;
   bool has_truth = false;
-  std::string video;  // path of the video file, if frames come from one
+  bool has_odometry = false;
   perception::CameraFile camera;
   std::string camera_name;
 };
 
-// Opens and checks a dataset folder or a video file. `camera_path` overrides the dataset's
-// camera.yaml (a video needs one). Throws InputError naming the file and row on: a path that
-// does not exist or is neither a folder nor a video, no manifest, a malformed row (wrong field
+// Opens and checks a dataset folder. `camera_path` overrides the dataset's camera.yaml (a bare
+// folder needs one unless it holds camera.yaml). A folder without manifest.csv is a bare folder
+// of images (PNG, JPEG, BMP, TIFF; in it or in its frames/), timed at `fps` frames per second,
+// which must then be given. Throws InputError naming the file and row on: a path that does not
+// exist or is not a folder, no manifest and no images (or no fps), a malformed row (wrong field
 // count, non-numeric or non-finite value, unknown column), indices or times not increasing, a
 // listed frame file missing (unless allow_missing_frames), no camera.
-Dataset open_dataset(const std::string& path, const std::string& camera_path, double video_fps,
+Dataset open_dataset(const std::string& path, const std::string& camera_path, double fps,
                      bool allow_missing_frames);
 
-// True for names ending in a video extension (.avi, .mp4, .mkv, .mov).
+// True for names ending in a video extension (.avi, .mp4, .mkv, .mov, .webm).
 bool looks_like_video(const std::string& path);
 
 // Writes a dataset: frames/NNNNNN.png or .jpg, manifest.csv with the ground-truth columns, and

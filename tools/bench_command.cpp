@@ -15,8 +15,8 @@
 #include "control/line_tracker.h"
 #include "perception/hough_baseline.h"
 #include "perception/tracking_line_estimator.h"
-#include "pipeline/closed_loop.h"
-#include "pipeline/config/scenario_loader.h"
+#include "pipeline/config/factory.h"
+#include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/sim/frame_renderer.h"
 
@@ -73,17 +73,22 @@ int run_bench(const BenchArgs& args) {
       pipeline::load_scenario_for_command(args.scenario, args.overrides);
   const perception::CameraModel camera =
       perception::camera_model_of(scenario.camera, scenario.camera_name);
-  const pipeline::FrameRenderer renderer(camera, pipeline::render_scene(scenario));
+  const std::unique_ptr<pipeline::FrameRenderer> renderer = pipeline::make_renderer(scenario);
 
   // A continuous sequence: the poses of the closed loop as `agv simulate` runs it (lockstep).
   pipeline::Scenario loop = scenario;
-  loop.duration_s = (args.frames - 1) * scenario.controller.ts_s;
+  loop.duration_s = (args.frames - 1) * pipeline::camera_period_s(scenario);
+  loop.loop.mode = pipeline::LoopMode::kLockstep;
   std::vector<Pose2> poses;
+  std::vector<BodyTwist> twists;
   std::vector<control::TrackingError> truths;
-  const pipeline::RunResult run = pipeline::run_lockstep(
-      loop, {}, [&](const pipeline::FrameRecord& record, const Pose2& pose, const cv::Mat&) {
-        poses.push_back(pose);
-        truths.push_back(record.truth);
+  const pipeline::RunResult run = pipeline::run_scenario(
+      loop, {},
+      [&](const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
+          const perception::LineDetection*) {
+        poses.push_back(*frame.pose);
+        twists.push_back(frame.twist);
+        truths.push_back(*record.truth);
       });
   const double closed_loop_fps = run.rows.size() / std::max(1e-9, run.wall_s - run.setup_wall_s);
 
@@ -94,15 +99,14 @@ int run_bench(const BenchArgs& args) {
   perception::TrackingLineEstimator tracking(camera, options);
   const perception::LineEstimator full_search(camera, options);
   const perception::HoughBaseline baseline(camera, options.tape.width_m);
-  control::LineTracker tracker = pipeline::make_tracker(scenario);
+  control::LineTracker tracker = pipeline::make_tracker(scenario, scenario.controller.ts_s);
   StageRecord tracked, searched, hough;
   std::vector<double> render_us, control_us;
   cv::Mat frame;
-  const BodyTwist twist{scenario.path_speed_m_s, 0.0, 0.0};
   for (size_t i = 0; i < poses.size(); ++i) {
-    const double t = i * scenario.controller.ts_s;
+    const double t = i * pipeline::camera_period_s(scenario);
     const Clock::time_point t0 = Clock::now();
-    renderer.render_into(poses[i], twist, static_cast<std::uint64_t>(i), &frame);
+    renderer->render_into(poses[i], twists[i], static_cast<std::uint64_t>(i), &frame);
     const Clock::time_point t1 = Clock::now();
     const LineMeasurement m = tracking.measure(frame, t);
     const Clock::time_point t2 = Clock::now();

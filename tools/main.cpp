@@ -8,11 +8,11 @@
 #include "tools/bench_command.h"
 #include "tools/calibrate_command.h"
 #include "tools/compare_command.h"
-
 #include "tools/evaluate_command.h"
 #include "tools/record_command.h"
 #include "tools/replay_command.h"
 #include "tools/simulate_command.h"
+#include "tools/track_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
   agv::tools::add_calibrate_command(app, calibrate);
   agv::tools::CompareArgs compare;
   agv::tools::add_compare_command(app, compare);
+  agv::tools::TrackArgs track;
+  agv::tools::add_track_command(app, track);
 
   try {
     app.parse(argc, argv);
@@ -50,7 +52,7 @@ int main(int argc, char** argv) {
     if (command == "replay") return agv::tools::run_replay_command(replay);
     if (command == "calibrate") return agv::tools::run_calibrate(calibrate);
     if (command == "compare") return agv::tools::run_compare(compare);
-
+    if (command == "track") return agv::tools::run_track_command(track);
   } catch (const agv::InputError& e) {
     std::cerr << "agv " << command << ": error: " << e.what() << '\n';
     return 2;

@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "common/input_error.h"
-#include "pipeline/closed_loop.h"
+#include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/dataset.h"
 #include "pipeline/evaluation/output_folder.h"
@@ -44,10 +44,12 @@ int run_record(const RecordArgs& args) {
   {
     ProgressBar bar("recording " + std::to_string(scenario.duration_s).substr(0, 4) + " s",
                     !args.quiet);
-    pipeline::run_lockstep(
+    pipeline::run_scenario(
         scenario, [&](double f) { bar.update(f); },
-        [&](const pipeline::FrameRecord& record, const Pose2& pose, const cv::Mat& frame) {
-          writer.add(static_cast<int>(record.index), record.stamp_s, frame, pose, record.truth);
+        [&](const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
+            const perception::LineDetection*) {
+          writer.add(static_cast<int>(record.index), record.stamp_s, frame.image, *frame.pose,
+                     *record.truth);
         });
   }
   writer.finish();

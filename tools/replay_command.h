@@ -1,25 +1,38 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 namespace agv::tools {
 
-struct ReplayArgs {
-  std::string dataset;
-  std::string camera;  // overrides the dataset's camera.yaml; needed for a video
-  std::string controller = "finite_step";
-  std::string out_dir;
-  bool skip_bad_frames = false;
+// What replay and track both take: where the frames come from and how to measure them.
+struct SourceArgs {
+  std::string source;         // dataset folder, image folder, video file (track: or a live source)
+  std::string camera;         // overrides the dataset's camera.yaml; needed for anything else
+  double fps = 0.0;           // a bare image folder's frame rate
+  std::string scenario_file;  // controller, vehicle limits, perception settings
+  std::vector<std::string> overrides;
+  std::string controller;       // shorthand for --set controller.kind=
+  double path_speed_m_s = 0.0;  // shorthand for --set path_speed_m_s= (0: the scenario's)
   std::string branch = "straight";
-  double tape_width_m = 0.0;  // 0: from camera.yaml, else 25 mm
-  std::string tape_color;     // "B,G,R"; empty: from camera.yaml, else automatic
-  double path_speed_m_s = 0.3;
+  double tape_width_m = 0.0;  // 0: from the camera file, else the scenario's
+  std::string tape_color;     // "B,G,R"; empty: from the camera file, else automatic
   bool no_tracking = false;
   bool no_video = false;
+  std::string out_dir;
+  bool json = false;
   bool quiet = false;
 };
+
+struct ReplayArgs : SourceArgs {
+  bool skip_bad_frames = false;
+};
+
+// The options replay and track share (the source last); annotated.avi is written unless
+// --no-video, or with video_by_default false only with --video.
+void add_source_options(CLI::App* sub, SourceArgs& args, bool video_by_default = true);
 
 void add_replay_command(CLI::App& app, ReplayArgs& args);
 

@@ -18,6 +18,7 @@
 #include "pipeline/bounded_queue.h"  // QueuePolicy
 #include "pipeline/sim/frame_faults.h"
 #include "pipeline/sim/scene.h"
+#include "pipeline/threaded_loop.h"  // InjectedHang
 
 namespace agv::pipeline {
 
@@ -65,8 +66,6 @@ struct MetricsConfig {
 };
 
 enum class LoopMode { kLockstep, kThreaded };
-enum class LoopThread { kCamera, kControl };
-
 struct LoopConfig {
   LoopMode mode = LoopMode::kLockstep;
   std::size_t queue_capacity = 4;
@@ -74,12 +73,7 @@ struct LoopConfig {
   double time_scale = 1.0;          // threaded: simulated seconds per wall-clock second
   double camera_fps = 0.0;          // frames per second (0: one frame per control period)
   double watchdog_timeout_s = 0.5;  // threaded: a thread silent this long is reported
-  // Threaded, for tests of the watchdog: the thread hangs for for_s once its clock reaches at_s.
-  struct Hang {
-    LoopThread thread = LoopThread::kCamera;
-    double at_s = 0.0, for_s = 0.0;
-  };
-  std::vector<Hang> hangs;
+  std::vector<InjectedHang> hangs;  // threaded, for tests of the watchdog
 };
 
 // The words scenario files use for each choice, in the order of the enum.

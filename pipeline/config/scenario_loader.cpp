@@ -102,46 +102,6 @@ perception::CameraFile read_camera(YamlReader& in, const ScenarioText& source, s
   }
 }
 
-// Seams and stray marks drawn as thin dark strips over the region the run can see: the main
-// path's bounding box grown by a metre.
-void add_floor_marks(const Scenario& s, Scene* scene) {
-  const FloorMarks& m = s.marks;
-  if (m.seam_spacing_m <= 0.0 && m.marks_per_m2 <= 0.0) return;
-  Eigen::Vector2d lo(1e9, 1e9), hi(-1e9, -1e9);
-  for (double t = 0.0; t <= s.path.length_m(); t += 0.05) {
-    lo = lo.cwiseMin(s.path.point_at(t));
-    hi = hi.cwiseMax(s.path.point_at(t));
-  }
-  lo -= Eigen::Vector2d(1.0, 1.0);
-  hi += Eigen::Vector2d(1.0, 1.0);
-  auto strip = [&](const Pose2& start, double length_m, double width_m, double darkness) {
-    TapeStrip mark;
-    mark.path = control::Path::starting_at(start).add_line(length_m);
-    mark.width_m = width_m;
-    mark.color_bgr = s.floor.color_bgr * (1.0 - darkness);
-    mark.edge_softness_m = 0.3 * width_m;
-    mark.texture_contrast = 0.0;
-    scene->tapes.push_back(mark);
-  };
-  if (m.seam_spacing_m > 0.0) {
-    for (double x = std::ceil(lo.x() / m.seam_spacing_m) * m.seam_spacing_m; x <= hi.x();
-         x += m.seam_spacing_m) {
-      strip({x, lo.y(), kPi / 2}, hi.y() - lo.y(), m.seam_width_m, m.seam_darkness);
-    }
-    for (double y = std::ceil(lo.y() / m.seam_spacing_m) * m.seam_spacing_m; y <= hi.y();
-         y += m.seam_spacing_m) {
-      strip({lo.x(), y, 0.0}, hi.x() - lo.x(), m.seam_width_m, m.seam_darkness);
-    }
-  }
-  cv::RNG rng(s.seed * 7777 + 5);
-  const int count = static_cast<int>(m.marks_per_m2 * (hi - lo).prod());
-  for (int i = 0; i < count; ++i) {
-    strip({rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), rng.uniform(-kPi, kPi)},
-          rng.uniform(0.02, 0.1), rng.uniform(0.001, 0.004),
-          m.mark_darkness * rng.uniform(0.5, 1.0));
-  }
-}
-
 // Keys that moved when the vehicle and controller settings were grouped by kind: a file that
 // still uses one is told where it went.
 void refuse_moved_keys(const YamlReader& in) {
@@ -459,7 +419,7 @@ void read_loop(YamlReader& in, LoopConfig* loop) {
       in.positive("loop.watchdog_timeout_s", loop->watchdog_timeout_s, 3600.0);
   for (size_t i = 0; i < in.sequence_size("loop.hangs"); ++i) {
     const std::string key = "loop.hangs." + std::to_string(i);
-    LoopConfig::Hang hang;
+    InjectedHang hang;
     hang.thread =
         in.choice(key + ".thread", LoopThread::kCamera,
                   std::vector<std::pair<std::string, LoopThread>>{
@@ -520,32 +480,6 @@ Scenario load_scenario(const ScenarioText& source,
   read_loop(in, &s.loop);
   in.finish();
   return s;
-}
-
-Scene render_scene(const Scenario& scenario) {
-  Scene scene;
-  add_floor_marks(scenario, &scene);  // first: the tape is laid over seams and marks
-  scene.tags = scenario.floor_tags;
-  scene.tapes.push_back(scenario.tape);
-  for (const control::Path& path : scenario.extra_paths) {
-    TapeStrip extra = scenario.tape;
-    extra.path = path;
-    extra.gaps_m.clear();
-    scene.tapes.push_back(extra);
-  }
-  scene.floor = scenario.floor;
-  scene.effects = scenario.effects;
-  scene.seed = scenario.seed;
-  return scene;
-}
-
-perception::LineEstimator::Options perception_options(const Scenario& scenario) {
-  perception::LineEstimator::Options options;
-  options.tape.width_m = scenario.tape.width_m;
-  if (scenario.tape_color_hint) options.tape.color_bgr = scenario.tape.color_bgr;
-  options.tracking = scenario.perception_tracking;
-  options.search_every_frames = scenario.perception_search_every_frames;
-  return options;
 }
 
 }  // namespace agv::pipeline

@@ -29,10 +29,4 @@ Scenario load_scenario(const ScenarioText& source,
 // Splits "key=value" as given to --set; throws InputError when there is no '='.
 std::pair<std::string, std::string> split_override(const std::string& option);
 
-// The scene the renderer draws for a scenario: its tape, floor, image effects and seed.
-Scene render_scene(const Scenario& scenario);
-
-// The perception options a scenario implies (tape width and, if enabled, colour hint).
-perception::LineEstimator::Options perception_options(const Scenario& scenario);
-
 }  // namespace agv::pipeline

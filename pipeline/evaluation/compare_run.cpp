@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "common/input_error.h"
-#include "pipeline/closed_loop.h"
+#include "pipeline/config/scenario_run.h"
 
 namespace agv::pipeline {
 namespace {

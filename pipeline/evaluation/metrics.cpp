@@ -123,8 +123,9 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
       ++m.frames_lost;
       continue;
     }
-    perception_d.push_back(f.measurement.e_d_m - f.truth.e_d_m);
-    perception_theta.push_back(f.measurement.e_theta_rad - f.truth.e_theta_rad);
+    if (!f.truth) continue;
+    perception_d.push_back(f.measurement.e_d_m - f.truth->e_d_m);
+    perception_theta.push_back(f.measurement.e_theta_rad - f.truth->e_theta_rad);
   }
   m.perception_rms_e_d_m = rms_from(perception_d, 0);
   m.perception_rms_e_theta_rad = rms_from(perception_theta, 0);
@@ -183,7 +184,7 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["horizon_steps_max"] = horizon_max;
   j["max_measurement_age_s"] = max_age_s;
   j["queue"] = {{"pushed", run.queue.pushed},     {"popped", run.queue.popped},
-                {"dropped", run.queue.dropped},   {"superseded", run.queue.superseded},
+                {"dropped", run.queue.dropped},   {"superseded", run.measurements_superseded},
                 {"rejected", run.queue.rejected}, {"max_depth", run.queue.max_depth}};
   j["watchdog_stalls"] = nlohmann::json::array();
   for (const WatchdogStall& stall : run.stalls) {
@@ -195,7 +196,7 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   const double periods = std::max<size_t>(1, run.rows.size());
   j["timing"] = {{"wall_s", run.wall_s},
                  {"setup_wall_s", run.setup_wall_s},
-                 {"render_ms_mean", 1e3 * run.total_times.render_s / frames},
+                 {"render_ms_mean", 1e3 * run.total_times.source_s / frames},
                  {"perceive_ms_mean", 1e3 * run.total_times.perceive_s / frames},
                  {"control_ms_mean", 1e3 * run.total_times.control_s / periods},
                  {"max_tick_lateness_s", run.max_tick_lateness_s}};

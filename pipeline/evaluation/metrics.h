@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "pipeline/closed_loop.h"
 #include "pipeline/config/scenario.h"
+#include "pipeline/run_result.h"
 
 namespace agv::pipeline {
 

@@ -66,14 +66,58 @@ void write_frames_csv(std::ostream& out, const RunResult& run) {
   out << std::setprecision(9);
   for (const FrameRecord& f : run.frames) {
     const LineMeasurement& m = f.measurement;
-    out << f.index << ',' << f.stamp_s << ',' << f.truth.e_theta_rad << ',' << f.truth.e_d_m << ','
-        << (m.line_found ? 1 : 0) << ',';
+    out << f.index << ',' << f.stamp_s << ',';
+    if (f.truth) {
+      out << f.truth->e_theta_rad << ',' << f.truth->e_d_m << ',';
+    } else {
+      out << ",,";
+    }
+    out << (m.line_found ? 1 : 0) << ',';
     if (m.line_found) {
       out << m.e_theta_rad << ',' << m.e_d_m << ',' << m.confidence << ',' << m.points_used << ','
           << m.tape_width_m << '\n';
     } else {
       out << ",,0,0,\n";
     }
+  }
+}
+
+namespace {
+
+std::string without_commas(std::string text) {
+  for (char& c : text)
+    if (c == ',' || c == '\n') c = ';';
+  return text;
+}
+
+}  // namespace
+
+void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& frames,
+                            bool with_truth) {
+  out << "index,t_s,line_found,e_theta_rad,e_d_m,curvature_1_m,confidence,tape_width_m,"
+         "no_line_reason,points_used,lines_seen,junction_ahead,bad,source,perceive_ms";
+  if (with_truth) out << ",true_e_theta_rad,true_e_d_m";
+  out << '\n' << std::setprecision(9);
+  for (const FrameRecord& f : frames) {
+    const LineMeasurement& m = f.measurement;
+    out << f.index << ',' << f.stamp_s << ',' << (m.line_found ? 1 : 0) << ',';
+    if (m.line_found) {
+      out << m.e_theta_rad << ',' << m.e_d_m << ',' << m.curvature_1_m << ',' << m.confidence << ','
+          << m.tape_width_m << ',';
+    } else {
+      out << ",,,0,,";
+    }
+    out << without_commas(f.bad ? f.problem : f.no_line_reason) << ',' << m.points_used << ','
+        << m.lines_seen << ',' << (m.junction_ahead ? 1 : 0) << ',' << (f.bad ? 1 : 0) << ','
+        << without_commas(f.label) << ',' << 1e3 * f.perceive_s;
+    if (with_truth) {
+      if (f.truth) {
+        out << ',' << f.truth->e_theta_rad << ',' << f.truth->e_d_m;
+      } else {
+        out << ",,";
+      }
+    }
+    out << '\n';
   }
 }
 

@@ -3,7 +3,7 @@
 #include <ostream>
 #include <string>
 
-#include "pipeline/closed_loop.h"
+#include "pipeline/run_result.h"
 
 namespace agv::pipeline {
 
@@ -14,5 +14,12 @@ void write_trace_csv(std::ostream& out, const RunResult& run);
 
 // frames.csv: one row per camera frame, perception against ground truth.
 void write_frames_csv(std::ostream& out, const RunResult& run);
+
+// measurements.csv of replay and track (shared/DESIGN.md): one row per frame, index,t_s,
+// line_found,e_theta_rad,e_d_m,curvature_1_m,confidence,tape_width_m,no_line_reason, then
+// points_used,lines_seen,junction_ahead,bad,source,perceive_ms and, with ground truth,
+// true_e_theta_rad,true_e_d_m. Free text (the reason, the source) has its commas replaced.
+void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& frames,
+                            bool with_truth);
 
 }  // namespace agv::pipeline

@@ -25,7 +25,8 @@
 #include "pipeline/config/builtin_files.h"
 #include "pipeline/config/scenario_loader.h"
 #include "pipeline/dataset.h"
-#include "pipeline/replay.h"
+#include "pipeline/dataset_source.h"
+#include "pipeline/perceiver.h"
 
 namespace agv {
 namespace {
@@ -206,10 +207,13 @@ TEST_F(MutationFuzz, FrameFiles) {
       write_file(dataset / "frames" / ("000000" + extension),
                  i == 0 ? original : mutate(original, rng));
       try {
-        const pipeline::Dataset d = pipeline::open_dataset(dataset.string(), "", 0.0, false);
-        pipeline::ReplayOptions options;
-        options.perception.tape.width_m = 0.025;
-        (void)pipeline::run_replay(d, options, {}, {});
+        pipeline::Dataset d = pipeline::open_dataset(dataset.string(), "", 0.0, false);
+        const perception::CameraModel camera = perception::camera_model_of(d.camera, "camera");
+        pipeline::DatasetSource source(std::move(d), /*pass_bad_frames=*/false);
+        perception::LineEstimator::Options options;
+        options.tape.width_m = 0.025;
+        pipeline::ImagePerceiver perceiver(camera, options);
+        (void)perceiver.measure(*source.next(), nullptr);
       } catch (const InputError&) {
         ++rejected;
       } catch (const std::exception& e) {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "control/line_tracker.h"
-#include "pipeline/closed_loop.h"
+#include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/evaluation/metrics.h"
 
@@ -68,7 +68,7 @@ void report_and_check_stop(const LossFigures& f, const Scenario& s) {
 
 TEST(LineLoss, CoveredCameraStopsWithinTheLimitThenResumes) {
   const Scenario s = shipped("covered");
-  const RunResult run = run_lockstep(s);
+  const RunResult run = run_scenario(s);
   const RunMetrics m = compute_metrics(run, s);
   EXPECT_EQ(m.limit_violations, 0);
   const LossFigures f = figures_of(run);
@@ -84,7 +84,7 @@ TEST(LineLoss, CoveredCameraStopsWithinTheLimitThenResumes) {
 
 TEST(LineLoss, GapLongerThanTheViewStopsWithinTheLimit) {
   const Scenario s = shipped("gap");
-  const RunResult run = run_lockstep(s);
+  const RunResult run = run_scenario(s);
   EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
   const LossFigures f = figures_of(run);
   ASSERT_GE(f.first_stopped_row, 0);
@@ -95,7 +95,7 @@ TEST(LineLoss, GapLongerThanTheViewStopsWithinTheLimit) {
 
 TEST(LineLoss, TapeEndStopsWithinTheLimitAndStays) {
   const Scenario s = shipped("tape_end");
-  const RunResult run = run_lockstep(s);
+  const RunResult run = run_scenario(s);
   EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
   const LossFigures f = figures_of(run);
   ASSERT_GE(f.first_stopped_row, 0);
@@ -108,7 +108,7 @@ TEST(LineLoss, TapeEndStopsWithinTheLimitAndStays) {
 // stop, no limit broken, and still on the line (within the paper's 2 mm band) afterwards.
 TEST(LineLoss, ShortFlashIsBridgedByTheHold) {
   const Scenario s = shipped("flash");
-  const RunResult run = run_lockstep(s);
+  const RunResult run = run_scenario(s);
   const RunMetrics m = compute_metrics(run, s);
   EXPECT_EQ(m.limit_violations, 0);
   EXPECT_EQ(m.frames_lost, 2);

@@ -5,9 +5,11 @@
 #include <vector>
 
 #include "common/angles.h"
+#include "pipeline/config/factory.h"
+#include "pipeline/config/recorded_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/dataset.h"
-#include "pipeline/replay.h"
+#include "pipeline/dataset_source.h"
 
 namespace agv::pipeline {
 namespace {
@@ -44,17 +46,18 @@ DatasetAccuracy replay_sample(const std::string& name, const std::string& scenar
       open_dataset(std::string(AGV_SOURCE_DIR) + "/datasets/" + name, "", 0.0, false);
   const Scenario scenario =
       pipeline::load_scenario_for_command(std::string(AGV_SOURCE_DIR) + "/" + scenario_file, {});
-  ReplayOptions options;
-  options.perception.tape.width_m = dataset.camera.tape_width_m.value_or(0.025);
-  options.perception.tape.color_bgr = dataset.camera.tape_color_bgr;
-  const ReplayResult result = run_replay(dataset, options, {}, {});
+  RecordedRunOptions options;
+  options.perception = recorded_perception_options(scenario, dataset.camera);
+  DatasetSource source(dataset, /*pass_bad_frames=*/false);
+  const RunResult result = run_on_source(
+      source, perception::camera_model_of(dataset.camera, dataset.camera_name), scenario, options);
   const std::vector<double> changes = shape_changes_m(scenario);
   const double view_end_m = dataset.camera.mount->xyz_m.x() + 0.25;
   DatasetAccuracy a;
   double d2 = 0.0, t2 = 0.0;
   EXPECT_EQ(result.frames.size(), dataset.rows.size());
   for (size_t i = 0; i < result.frames.size(); ++i) {
-    const ReplayFrame& frame = result.frames[i];
+    const FrameRecord& frame = result.frames[i];
     const DatasetRow& row = dataset.rows[i];
     ++a.frames;
     a.frames_bad += frame.bad ? 1 : 0;

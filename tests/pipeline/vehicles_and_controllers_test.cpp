@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "pipeline/closed_loop.h"
 #include "pipeline/config/scenario_loader.h"
+#include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/evaluation/metrics.h"
 
@@ -24,7 +24,7 @@ Scenario shipped(const std::string& name,
 // limits on every tick.
 TEST(VehiclesAndControllers, Seed004TurnsWithoutStoppingAndEndsAtTheEndPose) {
   const Scenario s = shipped("mecanum_seed004_pose.yaml");
-  const RunResult run = run_lockstep(s);
+  const RunResult run = run_scenario(s);
   const RunMetrics m = compute_metrics(run, s);
   // 5 mm: the feed-forward turn rate jumps at the joints and the wheel acceleration limit
   // (20 rad/s^2) ramps it over 0.24 s; the omni vehicle keeps its centre on the path while the
@@ -64,7 +64,7 @@ TEST(VehiclesAndControllers, DriveFormOneSweepsTheLeastCoverageArea) {
   for (int i = 0; i < 3; ++i) {
     const Scenario s =
         shipped("dual_steer_improved_dwa_pose.yaml", {{"vehicle.dual_steer.drive_form", forms[i]}});
-    const RunResult run = run_lockstep(s);
+    const RunResult run = run_scenario(s);
     const RunMetrics m = compute_metrics(run, s);
     area_m2[i] = m.coverage_area_m2;
     EXPECT_EQ(m.limit_violations, 0) << forms[i];
@@ -83,7 +83,7 @@ TEST(VehiclesAndControllers, EveryExampleCombinationTracks) {
     for (const char* controller : {"finite_step", "pid", "seed004_ff_p", "dwa", "improved_dwa"}) {
       const std::string name = std::string(vehicle) + "_" + controller + "_camera.yaml";
       const Scenario s = shipped(name, {{"duration_s", "4.0"}});
-      const RunMetrics m = compute_metrics(run_lockstep(s), s);
+      const RunMetrics m = compute_metrics(run_scenario(s), s);
       // 60 mm: the loosest of them (DWA with the seed's 10 deg/s^2 on a camera input) stays
       // within a tape width or two of the line; a controller that loses the line goes far past.
       EXPECT_LT(m.max_abs_e_d_m, 0.06) << name;

@@ -1,0 +1,171 @@
+#include "tools/source_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "common/angles.h"
+#include "common/input_error.h"
+#include "common/statistics.h"
+#include "pipeline/command_stream.h"
+#include "pipeline/evaluation/frame_annotation.h"
+#include "pipeline/evaluation/trace_csv.h"
+#include "tools/gnuplot.h"
+
+namespace agv::tools {
+
+FrameAnnotator::FrameAnnotator(const pipeline::OutputFolder& folder,
+                               const perception::CameraModel& camera, bool video, double fps,
+                               long expected_frames)
+    : folder_(folder),
+      camera_(camera),
+      video_enabled_(video),
+      fps_(std::clamp(fps, 1.0, 60.0)),
+      strip_every_(std::max(1L, expected_frames / 12)) {}
+
+pipeline::FrameSink FrameAnnotator::sink() {
+  return [this](const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
+                const perception::LineDetection* detection) { add(record, frame, detection); };
+}
+
+void FrameAnnotator::add(const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
+                         const perception::LineDetection* detection) {
+  if (!detection) return;  // a bad frame: nothing to draw
+  const bool want_strip = static_cast<long>(record.index) % strip_every_ == 0 && strip_.size() < 12;
+  if (!video_enabled_ && !want_strip) return;
+  char caption[96];
+  std::snprintf(caption, sizeof(caption), "frame %llu  t %.2f s",
+                static_cast<unsigned long long>(record.index), record.stamp_s);
+  const cv::Mat annotated =
+      pipeline::annotate_frame(frame.image, camera_, *detection, record.measurement, caption);
+  if (video_enabled_) {
+    if (!video_.isOpened()) {
+      const std::string path = folder_.file("annotated.avi").string();
+      video_.open(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps_, annotated.size());
+      if (!video_.isOpened()) throw InputError(path + ": cannot write the video");
+    }
+    video_.write(annotated);
+  }
+  if (want_strip) {
+    cv::Mat small;
+    cv::resize(annotated, small, annotated.size() / 2, 0, 0, cv::INTER_AREA);
+    strip_.push_back(small);
+  }
+}
+
+void FrameAnnotator::finish() {
+  video_.release();
+  if (strip_.empty()) return;
+  while (strip_.size() % 4 != 0)
+    strip_.push_back(cv::Mat::zeros(strip_.front().size(), strip_.front().type()));
+  std::vector<cv::Mat> rows;
+  for (size_t i = 0; i < strip_.size(); i += 4) {
+    cv::Mat row;
+    cv::hconcat(std::vector<cv::Mat>(strip_.begin() + i, strip_.begin() + i + 4), row);
+    rows.push_back(row);
+  }
+  cv::Mat sheet;
+  cv::vconcat(rows, sheet);
+  cv::imwrite(folder_.file("strip.png").string(), sheet);
+}
+
+SourceFigures source_figures(const pipeline::RunResult& result) {
+  SourceFigures f;
+  for (const pipeline::FrameRecord& frame : result.frames) {
+    ++f.frames;
+    if (frame.bad) {
+      ++f.bad;
+      f.bad_frames.push_back(
+          {{"index", frame.index}, {"source", frame.label}, {"problem", frame.problem}});
+      continue;
+    }
+    f.perceive_ms.push_back(1e3 * frame.perceive_s);
+    const LineMeasurement& m = frame.measurement;
+    if (!m.line_found) {
+      ++f.lost;
+      continue;
+    }
+    if (m.junction_ahead) ++f.junctions;
+    if (frame.truth) {
+      f.error_e_d_m.push_back(m.e_d_m - frame.truth->e_d_m);
+      f.error_e_theta_rad.push_back(wrap_angle_rad(m.e_theta_rad - frame.truth->e_theta_rad));
+    }
+  }
+  return f;
+}
+
+nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFigures& f,
+                              bool has_truth) {
+  auto rms_or_null = [](const std::vector<double>& v) {
+    return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(rms(v));
+  };
+  nlohmann::json j;
+  j["controller"] = result.controller_name;
+  j["frames"] = f.frames;
+  j["frames_lost"] = f.lost;
+  j["frames_bad"] = f.bad;
+  j["bad_frames"] = f.bad_frames;
+  j["frames_dropped"] = result.frames_dropped;
+  j["frames_with_junction"] = f.junctions;
+  j["has_ground_truth"] = has_truth;
+  j["perception_rms_e_d_m"] = rms_or_null(f.error_e_d_m);
+  j["perception_rms_e_theta_rad"] = rms_or_null(f.error_e_theta_rad);
+  j["commands"] = result.rows.size();
+  j["stop_reason"] = result.stop_reason;
+  j["timing"] = {{"perceive_ms_median", percentile(f.perceive_ms, 0.5)},
+                 {"perceive_ms_p99", percentile(f.perceive_ms, 0.99)},
+                 {"wall_s", result.wall_s},
+                 {"frames_per_s", f.frames / std::max(1e-9, result.wall_s)}};
+  return j;
+}
+
+void write_measurements(const pipeline::OutputFolder& folder, const pipeline::RunResult& result,
+                        bool has_truth) {
+  std::ofstream csv(folder.file("measurements.csv"));
+  pipeline::write_measurements_csv(csv, result.frames, has_truth);
+  if (!csv) throw InputError(folder.file("measurements.csv").string() + ": cannot write");
+}
+
+void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunResult& result) {
+  std::ofstream out(folder.file("commands.jsonl"));
+  for (const pipeline::TraceRow& row : result.rows) out << pipeline::command_json_line(row) << '\n';
+  if (!out) throw InputError(folder.file("commands.jsonl").string() + ": cannot write");
+}
+
+std::string plot_measurements(const pipeline::OutputFolder& folder, bool has_truth,
+                              const std::string& title) {
+  // Columns of measurements.csv: 2 t_s, 3 line_found, 4 e_theta_rad, 5 e_d_m, 16/17 the truth.
+  const std::string data = gnuplot_quote(folder.file("measurements.csv").string());
+  std::ostringstream script;
+  script << "set terminal pngcairo size 1100,800 font 'DejaVu Sans,11'\n"
+         << "set output " << gnuplot_quote(folder.file("errors.png").string()) << "\n"
+         << "set datafile separator ','\n"
+         << "set multiplot layout 2,1 title " << gnuplot_quote(title) << " noenhanced\n"
+         << "set grid\nset key top right\nset xlabel 'time (s)'\n"
+         << "set ylabel 'lateral error e_{d} (mm)'\n"
+         << "plot " << data
+         << " using 2:($3>0 ? $5*1000 : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' "
+            "title 'measured'";
+  if (has_truth)
+    script << ", '' using 2:($17*1000) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
+  script << "\nset ylabel 'heading error e_{θ} (deg)'\n"
+         << "plot " << data
+         << " using 2:($3>0 ? $4*180/pi : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' "
+            "title 'measured'";
+  if (has_truth)
+    script << ", '' using 2:($16*180/pi) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
+  script << "\nunset multiplot\n";
+  return run_gnuplot(script.str());
+}
+
+std::string rms_text(const std::vector<double>& values, double scale) {
+  if (values.empty()) return "n/a";
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.3f", scale * rms(values));
+  return text;
+}
+
+}  // namespace agv::tools

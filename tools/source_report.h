@@ -1,0 +1,65 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "perception/camera_model.h"
+#include "pipeline/camera_stage.h"
+#include "pipeline/evaluation/output_folder.h"
+#include "pipeline/run_result.h"
+
+namespace agv::tools {
+
+// What replay and track draw of the frames they measure: annotated.avi (every frame with what
+// perception found on it) and strip.png (up to 12 frames spread over the run).
+class FrameAnnotator {
+ public:
+  FrameAnnotator(const pipeline::OutputFolder& folder, const perception::CameraModel& camera,
+                 bool video, double fps, long expected_frames);
+  // The camera stage's sink.
+  pipeline::FrameSink sink();
+  // Writes strip.png and closes the video.
+  void finish();
+
+ private:
+  void add(const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
+           const perception::LineDetection* detection);
+
+  const pipeline::OutputFolder& folder_;
+  perception::CameraModel camera_;
+  bool video_enabled_;
+  double fps_;
+  long strip_every_;
+  cv::VideoWriter video_;
+  std::vector<cv::Mat> strip_;
+};
+
+// Counts and accuracy of a run on recorded or live frames, for summary.json and the one-line
+// summary: frames, lost, bad, with junction, perception RMS against ground truth.
+struct SourceFigures {
+  int frames = 0, lost = 0, bad = 0, junctions = 0;
+  std::vector<double> error_e_d_m, error_e_theta_rad, perceive_ms;
+  nlohmann::json bad_frames = nlohmann::json::array();
+};
+SourceFigures source_figures(const pipeline::RunResult& result);
+
+// The summary.json keys replay and track share.
+nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFigures& figures,
+                              bool has_truth);
+
+// measurements.csv, commands.jsonl (replay writes it after the run; track streams it) and
+// errors.png (measured against true errors over time).
+void write_measurements(const pipeline::OutputFolder& folder, const pipeline::RunResult& result,
+                        bool has_truth);
+void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunResult& result);
+std::string plot_measurements(const pipeline::OutputFolder& folder, bool has_truth,
+                              const std::string& title);
+
+// "0.123" in the unit given, or "n/a" for an empty set.
+std::string rms_text(const std::vector<double>& values, double scale);
+
+}  // namespace agv::tools
