@@ -35,14 +35,14 @@ std::string resolve_udp(const std::string& udp) {
 
 std::string command_json_line(const TraceRow& row) {
   const BodyTwist& c = row.output.command;
-  nlohmann::json j = {{"t_s", row.t_s},
-                      {"v_x_m_s", c.vx_m_s},
-                      {"v_y_m_s", c.vy_m_s},
-                      {"w_z_rad_s", c.wz_rad_s},
-                      {"line_found", row.has_measurement && row.measurement.line_found},
-                      {"e_theta_rad", nullptr},
-                      {"e_d_m", nullptr},
-                      {"age_s", nullptr}};
+  nlohmann::ordered_json j = {{"t_s", row.t_s},
+                              {"v_x_m_s", c.vx_m_s},
+                              {"v_y_m_s", c.vy_m_s},
+                              {"w_z_rad_s", c.wz_rad_s},
+                              {"line_found", row.has_measurement && row.measurement.line_found},
+                              {"e_theta_rad", nullptr},
+                              {"e_d_m", nullptr},
+                              {"age_s", nullptr}};
   if (row.has_measurement) {
     j["age_s"] = row.measurement_age_s;
     if (row.measurement.line_found) {

@@ -42,12 +42,17 @@ TraceRow ControlStage::step(double t_s, const std::optional<Pose2>& true_pose) {
   const control::TrackerOutput output = tracker_.step(
       arrived ? std::optional<LineMeasurement>(arrived->measurement) : std::nullopt, t_s);
   compute_s_ += std::chrono::duration<double>(Clock::now() - start).count();
-  return row_of(t_s, output, true_pose);
+  TraceRow row = row_of(t_s, output, true_pose);
+  row.measurement_arrived = arrived.has_value();
+  return row;
 }
 
 TraceRow ControlStage::brake(double t_s, const std::optional<Pose2>& true_pose) {
-  if (const std::optional<StampedMeasurement> arrived = newest_usable(t_s)) newest_ = arrived;
-  return row_of(t_s, tracker_.brake(t_s), true_pose);
+  const std::optional<StampedMeasurement> arrived = newest_usable(t_s);
+  if (arrived) newest_ = arrived;
+  TraceRow row = row_of(t_s, tracker_.brake(t_s), true_pose);
+  row.measurement_arrived = arrived.has_value();
+  return row;
 }
 
 TraceRow ControlStage::row_of(double t_s, const control::TrackerOutput& output,

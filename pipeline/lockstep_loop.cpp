@@ -17,13 +17,19 @@ void take_frames_until(CameraStage& camera, double limit_s) {
   }
 }
 
+bool stands_still(const TraceRow& row) {
+  const BodyTwist& c = row.output.command;
+  return c.vx_m_s == 0.0 && c.vy_m_s == 0.0 && c.wz_rad_s == 0.0;
+}
+
 }  // namespace
 
 RunResult run_lockstep(Loop& loop, const LockstepSchedule& schedule, const Progress& progress) {
   RunResult result;
   const bool until_source_ends = schedule.periods < 0;
   const long frames = loop.camera.source().frame_count();
-  for (long k = 0; until_source_ends || k < schedule.periods; ++k) {
+  long k = 0;
+  for (; until_source_ends || k < schedule.periods; ++k) {
     const double t_s = schedule.start_s + k * schedule.ts_s;
     if (until_source_ends && !loop.camera.source().next_time_s()) break;
     take_frames_until(loop.camera, t_s - kTimeSlack_s);  // taken while the last command held
@@ -43,6 +49,10 @@ RunResult run_lockstep(Loop& loop, const LockstepSchedule& schedule, const Progr
     } else if (frames > 0) {
       progress(std::min(1.0, static_cast<double>(loop.camera.records().size()) / frames));
     }
+  }
+  for (; schedule.brake_at_end && !result.rows.empty() && !stands_still(result.rows.back()); ++k) {
+    result.rows.push_back(loop.control.brake(schedule.start_s + k * schedule.ts_s));
+    if (loop.on_period) loop.on_period(result.rows.back());
   }
   if (progress) progress(1.0);
   result.stop_reason = until_source_ends ? "end of source" : "duration";

@@ -10,6 +10,9 @@ struct LockstepSchedule {
   double start_s = 0.0;
   double ts_s = 0.1;
   long periods = 1;
+  // Then brake to standstill within the limits, one period at a time (a real vehicle's last
+  // command is a stop).
+  bool brake_at_end = false;
 };
 
 // Deterministic: the stages run in turn on simulated time, as if the camera and the controller

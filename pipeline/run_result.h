@@ -30,8 +30,9 @@ struct StampedMeasurement {
 // One control period (one row of trace.csv).
 struct TraceRow {
   double t_s = 0.0;
-  bool has_measurement = false;  // the controller had a measurement to act on
-  LineMeasurement measurement;   // the newest measurement it had
+  bool has_measurement = false;      // the controller had a measurement to act on
+  bool measurement_arrived = false;  // a new one arrived this period
+  LineMeasurement measurement;       // the newest measurement it had
   double measurement_age_s = 0.0;
   control::TrackerOutput output;  // command, flags, what the controller acted on
   control::WheelCommand wheels =  // what the command asks of the vehicle's wheels

@@ -84,7 +84,10 @@ std::string run_control(Loop& loop, const ThreadedSchedule& schedule, const RunC
   std::string ending;
   for (long k = 0;; ++k) {
     const double t_s = schedule.start_s + k * schedule.ts_s;
-    if (t_s > schedule.end_s + 1e-9) return ending.empty() ? "duration" : ending;
+    if (ending.empty() && t_s > schedule.end_s + 1e-9) {
+      if (!schedule.brake_at_end) return "duration";
+      ending = "duration";
+    }
     clock.sleep_until(t_s);
     hangs.at(t_s);
     watchdog.beat(kControlThread);

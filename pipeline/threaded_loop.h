@@ -33,8 +33,8 @@ struct ThreadedSchedule {
   bool real_time_control = false;
   // The run ends when the source does (a recording, a live camera), not only at end_s.
   bool end_with_source = false;
-  // When the run ends before end_s (the source ended, `stop` was set), brake to standstill
-  // within the limits first (a real vehicle's last command is a stop).
+  // When the run ends (end_s, the source's end, `stop`), brake to standstill within the
+  // limits first (a real vehicle's last command is a stop).
   bool brake_at_end = false;
   const std::atomic<bool>* stop = nullptr;  // set from outside (Ctrl-C); may be null
   std::vector<InjectedHang> hangs;

@@ -3,6 +3,7 @@
 #include <exception>
 #include <iostream>
 #include <opencv2/core.hpp>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "common/input_error.h"
 #include "tools/bench_command.h"
@@ -37,6 +38,9 @@ int main(int argc, char** argv) {
   agv::tools::TrackArgs track;
   agv::tools::add_track_command(app, track);
 
+  // OpenCV's own warnings (a GStreamer pipeline that cannot report its position, ...) are not
+  // the user's concern; errors it cannot recover from still reach us as failures.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -46,11 +46,12 @@ class StopOnSignal {
   void (*previous_term_)(int);
 };
 
-// Measurement ages and the command rate of a run.
+// Measurement ages (from the frame's capture to the control period that first acts on it) and
+// the command rate of a run.
 nlohmann::json tracking_figures(const pipeline::RunResult& result) {
   std::vector<double> ages_s;
   for (const pipeline::TraceRow& row : result.rows)
-    if (row.has_measurement) ages_s.push_back(row.measurement_age_s);
+    if (row.measurement_arrived) ages_s.push_back(row.measurement_age_s);
   const double span_s =
       result.rows.size() > 1 ? result.rows.back().t_s - result.rows.front().t_s : 0.0;
   nlohmann::json stalls = nlohmann::json::array();
@@ -102,6 +103,7 @@ int run_track_command(const TrackArgs& args) {
                            source.frame_count());
   pipeline::RecordedRunOptions options;
   options.real_time = !args.as_fast_as_possible;
+  options.brake_at_end = true;
   options.duration_s = args.duration_s;
   options.stop = &stop_requested;
   options.perception = setup.perception;

@@ -22,7 +22,7 @@ ThreadedSchedule real_time_schedule(const FrameSource& source, const Scenario& s
   schedule.drop_late_frames = !source.live();
   schedule.real_time_control = true;
   schedule.end_with_source = true;
-  schedule.brake_at_end = true;
+  schedule.brake_at_end = options.brake_at_end;
   schedule.stop = options.stop;
   return schedule;
 }
@@ -47,7 +47,8 @@ RunResult run_on_source(FrameSource& source, const perception::CameraModel& came
   if (options.real_time) {
     result = run_threaded(loop, real_time_schedule(source, s, options), progress);
   } else {
-    LockstepSchedule schedule{source.next_time_s().value_or(0.0), s.controller.ts_s, -1};
+    LockstepSchedule schedule{source.next_time_s().value_or(0.0), s.controller.ts_s, -1,
+                              options.brake_at_end};
     if (std::isfinite(options.duration_s)) {
       schedule.periods =
           static_cast<long>(std::floor(options.duration_s / schedule.ts_s + 1e-9)) + 1;

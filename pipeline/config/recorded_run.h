@@ -16,10 +16,12 @@ namespace agv::pipeline {
 struct RecordedRunOptions {
   // Real time (agv track): the stages on their own threads on the wall clock, recorded frames
   // played at their own rate (late ones dropped), the controller every controller.ts_s at the
-  // time it really runs, braking to a stop when the source ends or `stop` is set. Otherwise
-  // (agv replay, track --as-fast-as-possible): lockstep on the frames' clock, as fast as the
-  // computer goes.
+  // time it really runs. Otherwise (agv replay, track --as-fast-as-possible): lockstep on the
+  // frames' clock, as fast as the computer goes.
   bool real_time = false;
+  // When the source ends, `stop` is set (real time) or the duration is over, brake to a stop
+  // within the limits: the last command is a stop (agv track).
+  bool brake_at_end = false;
   double duration_s = std::numeric_limits<double>::infinity();  // of the source's time
   const std::atomic<bool>* stop = nullptr;                      // real time: Ctrl-C
   perception::LineEstimator::Options perception;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "common/angles.h"
 #include "pipeline/config/builtin_files.h"
@@ -86,26 +87,63 @@ TEST(ClosedLoop, LockstepIsDeterministic) {
   }
 }
 
-// Threaded, the same scenario gives the same behaviour within tolerance: camera and control
-// run on their own clocks, so the measurement ages differ by up to a frame. Real time (time
-// scale 1) leaves 100 ms per period, ample even for a sanitizer build.
+// Threaded, the same scenario gives the same behaviour within tolerance: camera and control run
+// on their own threads and clocks, but the camera sees the plant's own pose between periods and
+// latency is counted at the receiving end, so with an actuator lag and two frames of latency
+// the two schedules agree to issue 16's bar (0.5 mm in max |e_d|, 0.15 s in settle time; the
+// only difference left is rounding in the pose of a frame taken as a period starts). Real time
+// leaves 100 ms a period, ample even for a sanitizer build, but there the timing is not
+// compared (CI compares it in its unsanitized stage).
 TEST(ClosedLoop, ThreadedModeMatchesLockstep) {
-  const Scenario lockstep = default_with({{"duration_s", "2.0"}});
-  const Scenario threaded =
-      default_with({{"duration_s", "2.0"}, {"loop.mode", "threaded"}, {"loop.time_scale", "1"}});
+  const std::vector<std::pair<std::string, std::string>> lagged = {
+      {"duration_s", "2.5"}, {"vehicle.actuator_lag_s", "0.05"}, {"latency_frames", "2"}};
+  std::vector<std::pair<std::string, std::string>> threaded_overrides = lagged;
+  threaded_overrides.push_back({"loop.mode", "threaded"});
+  const Scenario lockstep = default_with(lagged);
+  const Scenario threaded = default_with(threaded_overrides);
   const RunMetrics a = compute_metrics(run_scenario(lockstep), lockstep);
   const RunResult run = run_scenario(threaded);
   const RunMetrics b = compute_metrics(run, threaded);
   EXPECT_EQ(b.limit_violations, 0);
+  std::printf("lockstep: max |e_d| %.2f mm, settle %.2f s; threaded: %.2f mm, %.2f s\n",
+              1e3 * a.max_abs_e_d_m, a.settle_time_s.value_or(-1), 1e3 * b.max_abs_e_d_m,
+              b.settle_time_s.value_or(-1));
   if (kSanitized) GTEST_SKIP() << "timing comparison skipped in a sanitizer build";
   ASSERT_TRUE(a.settle_time_s && b.settle_time_s);
-  EXPECT_NEAR(*b.settle_time_s, *a.settle_time_s, 0.3);
-  EXPECT_NEAR(b.max_abs_e_d_m, a.max_abs_e_d_m, 0.003);
+  EXPECT_NEAR(*b.settle_time_s, *a.settle_time_s, 0.15);
+  EXPECT_NEAR(b.max_abs_e_d_m, a.max_abs_e_d_m, 0.0005);
   for (const TraceRow& row : run.rows) {
     if (row.has_measurement) {
-      EXPECT_LE(row.measurement_age_s, 0.35);
+      EXPECT_LE(row.measurement_age_s, 0.2 + 0.1);  // two frames, plus at most a period's wait
     }
   }
+}
+
+// A camera at 30 frames/s with Ts 0.1 s: two frames of latency are 67 ms, not 0.2 s; the
+// controller acts on a measurement at most two frames plus one period old, and the run settles
+// (as fast as Table 1's with its one 0.1 s frame of latency, 0.5 s, give or take a period).
+// Lockstep keeps the queue's policy too: a queue of one that blocks refuses the later frames.
+TEST(ClosedLoop, LatencyIsCountedInCameraFrames) {
+  const Scenario s =
+      default_with({{"duration_s", "3.0"}, {"loop.camera_fps", "30"}, {"latency_frames", "2"}});
+  const RunResult run = run_scenario(s);
+  const RunMetrics m = compute_metrics(run, s);
+  ASSERT_TRUE(m.settle_time_s.has_value());
+  EXPECT_LE(*m.settle_time_s, 0.8);
+  EXPECT_EQ(m.limit_violations, 0);
+  EXPECT_EQ(m.frames, 91);
+  for (size_t k = 1; k < run.rows.size(); ++k) {
+    ASSERT_TRUE(run.rows[k].has_measurement);
+    EXPECT_GE(run.rows[k].measurement_age_s, 2.0 / 30.0 - 1e-9);
+    EXPECT_LT(run.rows[k].measurement_age_s, 3.0 / 30.0 - 1e-9);
+  }
+  const Scenario blocking = default_with({{"duration_s", "1.0"},
+                                          {"loop.camera_fps", "30"},
+                                          {"loop.queue_capacity", "1"},
+                                          {"loop.queue_policy", "block"}});
+  const RunResult blocked = run_scenario(blocking);
+  EXPECT_GT(blocked.queue.rejected, 0u);
+  EXPECT_EQ(blocked.queue.dropped, 0u);
 }
 
 // Overload: the camera produces ten frames per control period, far faster than the control
