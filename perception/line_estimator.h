@@ -25,7 +25,7 @@ struct TapeHints {
 struct LineDetection {
   std::vector<EdgePair> edges;       // pixel edges per scan line
   std::vector<Chord> chords;         // the same on the floor, vehicle frame
-  std::vector<DetectedLine> lines;   // every line accepted (up to 3)
+  std::vector<DetectedLine> lines;   // every line accepted (up to LineSetOptions::max_lines)
   std::optional<Junction> junction;  // where lines meet, if they do in view
   int followed = -1;                 // index in `lines` of the line reported
   CurveModel followed_model;         // that line, oriented along the travel direction
@@ -44,8 +44,8 @@ struct LineDetection {
 //     to sub-pixel precision at the half-way crossings of the local contrast;
 //  4. both edges are mapped to the floor; their midpoint lies on the tape's centre line
 //     whatever the perspective (it is the midpoint of points on two parallel curves);
-//  5. up to three curves (arcs or lines) are fitted robustly through the midpoints, each
-//     checked against the tape width, its consistency and the visible length;
+//  5. up to LineSetOptions::max_lines curves (arcs or lines) are fitted robustly through the
+//     midpoints, each checked against the tape width, its consistency and the visible length;
 //  6. where lines meet, the branch chosen (left, straight, right) gives the line to follow,
 //     extrapolated along its curve to the vehicle's foot point.
 class LineEstimator {

@@ -76,7 +76,8 @@ int run_replay_command(const ReplayArgs& args) {
     json << summary.dump(2) << '\n';
     if (!json) throw InputError(folder.target().string() + ": cannot write the results");
   }
-  const std::string failure = plot_measurements(folder, has_truth, "replay of " + args.source);
+  const std::string failure = plot_measurements(
+      folder, result, has_truth, plot_title("replay of", setup.opened.kind, args.source));
   if (!failure.empty()) std::cerr << "agv replay: warning: plot skipped: " << failure << '\n';
   folder.commit();
 

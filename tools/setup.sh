@@ -2,7 +2,9 @@
 # Set-up, build and run, idempotent, on Debian 12 (root, or a user with sudo).
 #   tools/setup.sh simulate [agv simulate options]   build (Release) and run the default scenario
 #   tools/setup.sh test        build with AddressSanitizer + UndefinedBehaviorSanitizer and run every
-#                              test; build with ThreadSanitizer and run the threaded tests (CI)
+#                              test; build without sanitizers and run the tests whose timing is the
+#                              point (threaded loop against lockstep); build with ThreadSanitizer
+#                              and run the threaded tests (CI)
 #   tools/setup.sh test-plain  build (Release) and run every test (quicker, no sanitizers)
 #   tools/setup.sh build                             build only
 # Environment: BUILD_DIR (default build), JOBS (default: all cores).
@@ -17,6 +19,7 @@ packages=(
   libopencv-dev libeigen3-dev libapriltag-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev
   googletest libgtest-dev libbenchmark-dev
   gnuplot-nox fonts-dejavu-core
+  gstreamer1.0-plugins-base   # videotestsrc, videoconvert, appsink: live-source tests, agv track
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -34,8 +37,9 @@ fi
 build_dir="${BUILD_DIR:-build}"
 jobs="${JOBS:-$(nproc)}"
 
-# A sanitizer build: optimised (-O1) but with assertions on, no debug info (faster to link).
-sanitized_build() {  # dir sanitizers [target]
+# A test build: optimised (-O1) but with assertions on, no debug info (faster to link);
+# sanitizers as given (none: "").
+test_build() {  # dir sanitizers [target]
   cmake -S . -B "$1" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 \
     -DAGV_SANITIZE="$2" > /dev/null
   cmake --build "$1" --parallel "$jobs" ${3:+--target "$3"}
@@ -53,17 +57,23 @@ case "$mode" in
   test-plain) cd "$build_dir" && exec ctest --output-on-failure --parallel "$jobs" "$@" ;;
   test)
     echo "setup: AddressSanitizer + UndefinedBehaviorSanitizer build, all tests"
-    sanitized_build build-asan address,undefined
+    test_build build-asan address,undefined
     (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
       UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
       ctest --output-on-failure --parallel "$jobs" "$@")
-    echo "setup: ThreadSanitizer build, threaded tests (queue, closed loop, watchdog)"
-    sanitized_build build-tsan thread pipeline_tests
+    # Sanitizers slow frames down 5-15 times: the threaded loop's timing is compared with
+    # lockstep's only here, one test at a time so that nothing else competes for the cores.
+    echo "setup: build without sanitizers, the threaded loop against lockstep"
+    test_build build-timing "" pipeline_tests
+    (cd build-timing && ctest --output-on-failure \
+      -R "^(ClosedLoop\.(ThreadedModeMatchesLockstep|LatencyIsCountedInCameraFrames)|Loop\.Threaded.*)$" "$@")
+    echo "setup: ThreadSanitizer build, threaded tests (queue, loop, closed loop, watchdog)"
+    test_build build-tsan thread pipeline_tests
     cd build-tsan
     export TSAN_OPTIONS="suppressions=$PWD/../tests/tsan.supp halt_on_error=1"
     # The threaded closed-loop tests run on real time: the comparison runs (several closed loops
     # at once) come after them, not beside them, so that they cannot starve their threads.
-    ctest --output-on-failure --parallel "$jobs" -R "^(BoundedQueue|ClosedLoop|Watchdog)\\." "$@"
+    ctest --output-on-failure --parallel "$jobs" -R "^(BoundedQueue|ClosedLoop|Loop|Watchdog)\\." "$@"
     echo "setup: ThreadSanitizer, parallel comparison runs"
     exec ctest --output-on-failure --parallel "$jobs" -R "^CompareRunner\\." "$@"
     ;;

@@ -135,30 +135,46 @@ void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunRes
   if (!out) throw InputError(folder.file("commands.jsonl").string() + ": cannot write");
 }
 
-std::string plot_measurements(const pipeline::OutputFolder& folder, bool has_truth,
+std::string plot_measurements(const pipeline::OutputFolder& folder,
+                              const pipeline::RunResult& result, bool has_truth,
                               const std::string& title) {
   // Columns of measurements.csv: 2 t_s, 3 line_found, 4 e_theta_rad, 5 e_d_m, 16/17 the truth.
   const std::string data = gnuplot_quote(folder.file("measurements.csv").string());
+  bool any_line = false;
+  for (const pipeline::FrameRecord& f : result.frames) any_line |= f.measurement.line_found;
   std::ostringstream script;
   script << "set terminal pngcairo size 1100,800 font 'DejaVu Sans,11'\n"
          << "set output " << gnuplot_quote(folder.file("errors.png").string()) << "\n"
          << "set datafile separator ','\n"
          << "set multiplot layout 2,1 title " << gnuplot_quote(title) << " noenhanced\n"
-         << "set grid\nset key top right\nset xlabel 'time (s)'\n"
-         << "set ylabel 'lateral error e_{d} (mm)'\n"
-         << "plot " << data
-         << " using 2:($3>0 ? $5*1000 : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' "
-            "title 'measured'";
+         << "set grid\nset key top right\nset xlabel 'time (s)'\n";
+  if (!any_line) {  // nothing to scale the axes by: the frames' time span, and say why
+    const double t0 = result.frames.empty() ? 0.0 : result.frames.front().stamp_s;
+    const double t1 = result.frames.empty() ? 1.0 : result.frames.back().stamp_s;
+    script << "set xrange [" << t0 << ":" << std::max(t1, t0 + 1e-3) << "]\n"
+           << "set yrange [-1:1]\nset label 1 'no line found in any frame' at graph 0.5, 0.5 "
+              "center\n";
+  }
+  const char* measured =
+      any_line ? "points pt 7 ps 0.6 lc rgb '#ff7f0e' title 'measured'" : "points notitle";
+  script << "set ylabel 'lateral error e_{d} (mm)'\n"
+         << "plot " << data << " using 2:($3>0 ? $5*1000 : NaN) every ::1 with " << measured;
   if (has_truth)
     script << ", '' using 2:($17*1000) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
   script << "\nset ylabel 'heading error e_{θ} (deg)'\n"
-         << "plot " << data
-         << " using 2:($3>0 ? $4*180/pi : NaN) every ::1 with points pt 7 ps 0.6 lc rgb '#ff7f0e' "
-            "title 'measured'";
+         << "plot " << data << " using 2:($3>0 ? $4*180/pi : NaN) every ::1 with " << measured;
   if (has_truth)
     script << ", '' using 2:($16*180/pi) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
   script << "\nunset multiplot\n";
   return run_gnuplot(script.str());
+}
+
+std::string plot_title(const std::string& what, const std::string& kind,
+                       const std::string& source) {
+  constexpr size_t kMaxSource = 70;  // the title must fit above a 1100 px wide plot
+  const std::string shown =
+      source.size() <= kMaxSource ? source : source.substr(0, kMaxSource - 3) + "...";
+  return what + " " + kind + " " + shown;
 }
 
 std::string rms_text(const std::vector<double>& values, double scale) {

@@ -56,8 +56,12 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
 void write_measurements(const pipeline::OutputFolder& folder, const pipeline::RunResult& result,
                         bool has_truth);
 void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunResult& result);
-std::string plot_measurements(const pipeline::OutputFolder& folder, bool has_truth,
+std::string plot_measurements(const pipeline::OutputFolder& folder,
+                              const pipeline::RunResult& result, bool has_truth,
                               const std::string& title);
+
+// A plot title that fits: "replay of video file run.avi", a long source cut short.
+std::string plot_title(const std::string& what, const std::string& kind, const std::string& source);
 
 // "0.123" in the unit given, or "n/a" for an empty set.
 std::string rms_text(const std::vector<double>& values, double scale);

@@ -139,7 +139,8 @@ int run_track_command(const TrackArgs& args) {
     if (!json) throw InputError(folder.target().string() + ": cannot write the results");
   }
   const std::string failure =
-      plot_measurements(folder, setup.opened.has_truth, "tracking " + args.source);
+      plot_measurements(folder, result, setup.opened.has_truth,
+                        plot_title("tracking", setup.opened.kind, args.source));
   if (!failure.empty()) std::cerr << "agv track: warning: plot skipped: " << failure << '\n';
   folder.commit();
 

@@ -29,7 +29,7 @@ class YamlReader {
 
   bool has(const std::string& key) const;
   double number(const std::string& key, double fallback, double min, double max);
-  // A number that must be > min (strictly).
+  // A number that must be > 0 (strictly) and at most max.
   double positive(const std::string& key, double fallback, double max = 1e9);
   int integer(const std::string& key, int fallback, int min, int max);
   bool boolean(const std::string& key, bool fallback);

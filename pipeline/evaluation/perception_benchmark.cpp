@@ -157,95 +157,96 @@ NearEvidenceError error_at_nearest_evidence(const perception::LineDetection& det
   return {error.e_d_m, error.e_theta_rad};
 }
 
-PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOptions& options,
-                                                   const std::function<void(double)>& progress) {
-  PerceptionBenchmarkResult result;
-  cv::RNG rng(options.seed * 2654435761u + 99);
-  int saved = 0;
-  if (!options.save_failures_dir.empty())
-    std::filesystem::create_directories(options.save_failures_dir);
-  const int total = options.conditions + options.empty_conditions;
-  for (int c = 0; c < total; ++c) {
-    const bool with_tape = c < options.conditions;
-    const Draw draw = draw_condition(rng, with_tape, options.seed * 1000 + c);
-    const FrameRenderer renderer(draw.camera, draw.scene);
-    const perception::LineEstimator estimator(draw.camera, draw.perception);
-    const perception::HoughBaseline baseline(draw.camera, draw.perception.tape.width_m);
-    const control::Path& path = draw.scene.tapes.front().path;
-    // The longest the tape could be in view: through the image centre along the image's longer
-    // extent, about the floor view's diameter in the forward direction.
-    const double full_view_m = 2.0 * renderer.floor_map().view_radius_m() * 0.8;
-    for (int f = 0; f < options.frames_per_condition; ++f) {
-      // A pose near the path: on it at a random place, offset and turned.
-      const double s = path.length_m() * rng.uniform(0.35, 0.65);
-      const double e_d = rng.uniform(-0.03, 0.03), e_theta = deg_to_rad(rng.uniform(-8.0, 8.0));
-      const Eigen::Vector2d foot =
-          with_tape ? path.point_at(s)
-                    : Eigen::Vector2d(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
-      const double heading = with_tape ? path.heading_at(s) : rng.uniform(-kPi, kPi);
-      const Eigen::Vector2d p = foot + e_d * Eigen::Vector2d(-std::sin(heading), std::cos(heading));
-      const Pose2 pose{p.x(), p.y(), wrap_angle_rad(heading + e_theta)};
-      const BodyTwist twist{rng.uniform(0.0, 1.0), rng.uniform(-0.05, 0.05),
-                            rng.uniform(-0.2, 0.2)};
-      const cv::Mat frame = renderer.render(pose, twist, static_cast<std::uint64_t>(f));
-      const auto t0 = std::chrono::steady_clock::now();
-      perception::LineDetection detection;
-      const LineMeasurement m = estimator.estimate(frame, 0.0, &detection);
-      BenchmarkFrame b;
-      b.perceive_ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      const auto t1 = std::chrono::steady_clock::now();
-      const LineMeasurement mb = baseline.estimate(frame, 0.0);
-      b.baseline_ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
-      b.baseline_found = mb.line_found;
-      b.condition = c;
-      b.has_tape = with_tape;
-      b.curved = draw.curved;
-      b.line_found = m.line_found;
-      b.conditions_text = draw.text;
-      if (with_tape) {
-        const control::PathProjection foot_now = path.project(pose.translation(), s, 0.5);
-        const control::TrackingError truth = path.tracking_error(pose, foot_now);
-        b.visible_fraction =
-            std::min(1.0, visible_length_m(path, pose, draw.camera, s) / full_view_m);
-        if (m.line_found) {
-          b.error_e_d_m = m.e_d_m - truth.e_d_m;
-          b.error_e_theta_rad = wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad);
-          const NearEvidenceError near = error_at_nearest_evidence(detection, path, pose, s);
-          b.near_error_offset_m = near.offset_m;
-          b.near_error_heading_rad = near.heading_rad;
-        }
-        if (mb.line_found) {
-          b.baseline_error_e_d_m = mb.e_d_m - truth.e_d_m;
-          b.baseline_error_e_theta_rad = wrap_angle_rad(mb.e_theta_rad - truth.e_theta_rad);
-        }
-      }
-      result.frames.push_back(b);
-      const bool failed = (with_tape && b.visible_fraction >= 0.5 &&
-                           (!b.line_found || std::abs(b.error_e_d_m) > 0.001 ||
-                            std::abs(b.error_e_theta_rad) > deg_to_rad(0.5))) ||
-                          (!with_tape && b.line_found);
-      if (failed && !options.save_failures_dir.empty() && saved < options.max_saved) {
-        char name[96], caption[128];
-        std::snprintf(name, sizeof(name), "/condition%03d_frame%02d.png", c, f);
-        std::snprintf(caption, sizeof(caption), "c%d f%d error %.2f mm %.2f deg | %s", c, f,
-                      1e3 * b.error_e_d_m, rad_to_deg(b.error_e_theta_rad), draw.text.c_str());
-        cv::imwrite(options.save_failures_dir + name,
-                    annotate_frame(frame, draw.camera, detection, m, caption));
-        ++saved;
-      }
-    }
-    if (progress) progress(static_cast<double>(c + 1) / total);
-  }
+namespace {
 
-  // Figures: accuracy on frames showing at least half the tape; detection on those; false lines.
+// A pose near the path (on it at a random place, offset and turned; anywhere without tape) and
+// the vehicle's twist, drawn in this order.
+struct DrawnPose {
+  Pose2 pose;
+  BodyTwist twist;
+  double s_m = 0.0;
+};
+
+DrawnPose draw_pose(cv::RNG& rng, const control::Path& path, bool with_tape) {
+  const double s = path.length_m() * rng.uniform(0.35, 0.65);
+  const double e_d = rng.uniform(-0.03, 0.03), e_theta = deg_to_rad(rng.uniform(-8.0, 8.0));
+  const Eigen::Vector2d foot =
+      with_tape ? path.point_at(s)
+                : Eigen::Vector2d(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
+  const double heading = with_tape ? path.heading_at(s) : rng.uniform(-kPi, kPi);
+  const Eigen::Vector2d p = foot + e_d * Eigen::Vector2d(-std::sin(heading), std::cos(heading));
+  const Pose2 pose{p.x(), p.y(), wrap_angle_rad(heading + e_theta)};
+  const BodyTwist twist{rng.uniform(0.0, 1.0), rng.uniform(-0.05, 0.05), rng.uniform(-0.2, 0.2)};
+  return {pose, twist, s};
+}
+
+// What one condition measures with: its renderer, our estimator and the baseline.
+struct ConditionTools {
+  const Draw& draw;
+  const FrameRenderer& renderer;
+  const perception::LineEstimator& estimator;
+  const perception::HoughBaseline& baseline;
+  double full_view_m;  // the longest the tape could be in view
+};
+
+// One frame at the drawn pose: both detectors' times and errors against the truth.
+BenchmarkFrame measure_frame(const ConditionTools& tools, const DrawnPose& drawn, int frame_index,
+                             bool with_tape, cv::Mat* frame, perception::LineDetection* detection,
+                             LineMeasurement* m) {
+  const control::Path& path = tools.draw.scene.tapes.front().path;
+  *frame = tools.renderer.render(drawn.pose, drawn.twist, static_cast<std::uint64_t>(frame_index));
+  const auto t0 = std::chrono::steady_clock::now();
+  *m = tools.estimator.estimate(*frame, 0.0, detection);
+  BenchmarkFrame b;
+  b.perceive_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto t1 = std::chrono::steady_clock::now();
+  const LineMeasurement mb = tools.baseline.estimate(*frame, 0.0);
+  b.baseline_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  b.baseline_found = mb.line_found;
+  b.has_tape = with_tape;
+  b.curved = tools.draw.curved;
+  b.line_found = m->line_found;
+  b.conditions_text = tools.draw.text;
+  if (!with_tape) return b;
+  const control::PathProjection foot_now = path.project(drawn.pose.translation(), drawn.s_m, 0.5);
+  const control::TrackingError truth = path.tracking_error(drawn.pose, foot_now);
+  b.visible_fraction = std::min(
+      1.0, visible_length_m(path, drawn.pose, tools.draw.camera, drawn.s_m) / tools.full_view_m);
+  if (m->line_found) {
+    b.error_e_d_m = m->e_d_m - truth.e_d_m;
+    b.error_e_theta_rad = wrap_angle_rad(m->e_theta_rad - truth.e_theta_rad);
+    const NearEvidenceError near =
+        error_at_nearest_evidence(*detection, path, drawn.pose, drawn.s_m);
+    b.near_error_offset_m = near.offset_m;
+    b.near_error_heading_rad = near.heading_rad;
+  }
+  if (mb.line_found) {
+    b.baseline_error_e_d_m = mb.e_d_m - truth.e_d_m;
+    b.baseline_error_e_theta_rad = wrap_angle_rad(mb.e_theta_rad - truth.e_theta_rad);
+  }
+  return b;
+}
+
+// A frame that should have shown its line within 1 mm / 0.5 deg and did not, or a line where
+// there is no tape.
+bool failed(const BenchmarkFrame& b) {
+  return (b.has_tape && b.visible_fraction >= 0.5 &&
+          (!b.line_found || std::abs(b.error_e_d_m) > 0.001 ||
+           std::abs(b.error_e_theta_rad) > deg_to_rad(0.5))) ||
+         (!b.has_tape && b.line_found);
+}
+
+// The figures of summary.json: accuracy on frames showing at least half the tape, detection on
+// those, false lines, and the same for the baseline.
+nlohmann::json summarise(const std::vector<BenchmarkFrame>& frames, std::uint64_t seed) {
   std::vector<double> d_all, t_all, d_straight, t_straight, d_arc, t_arc, times;
   std::vector<double> near_d, near_t;
   std::vector<double> baseline_d, baseline_t, baseline_times;
   int qualifying = 0, found = 0, empty = 0, false_lines = 0, partial = 0, partial_found = 0;
   int baseline_found = 0, baseline_false_lines = 0;
-  for (const BenchmarkFrame& b : result.frames) {
+  for (const BenchmarkFrame& b : frames) {
     times.push_back(b.perceive_ms);
     baseline_times.push_back(b.baseline_ms);
     if (!b.has_tape) {
@@ -274,9 +275,9 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
     (b.curved ? d_arc : d_straight).push_back(b.error_e_d_m);
     (b.curved ? t_arc : t_straight).push_back(b.error_e_theta_rad);
   }
-  nlohmann::json& j = result.summary;
-  j["seed"] = options.seed;
-  j["frames"] = result.frames.size();
+  nlohmann::json j;
+  j["seed"] = seed;
+  j["frames"] = frames.size();
   j["frames_half_visible"] = qualifying;
   j["found_fraction"] = qualifying ? static_cast<double>(found) / qualifying : 0.0;
   j["rms_e_d_m"] = rms(d_all);
@@ -306,6 +307,50 @@ PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOpti
       {"p95_abs_e_theta_rad", quantile(baseline_t, 0.95)},
       {"lines_reported_without_tape", baseline_false_lines},
       {"ms_median", quantile(baseline_times, 0.5)}};
+  return j;
+}
+
+}  // namespace
+
+PerceptionBenchmarkResult run_perception_benchmark(const PerceptionBenchmarkOptions& options,
+                                                   const std::function<void(double)>& progress) {
+  PerceptionBenchmarkResult result;
+  cv::RNG rng(options.seed * 2654435761u + 99);
+  int saved = 0;
+  if (!options.save_failures_dir.empty())
+    std::filesystem::create_directories(options.save_failures_dir);
+  const int total = options.conditions + options.empty_conditions;
+  for (int c = 0; c < total; ++c) {
+    const bool with_tape = c < options.conditions;
+    const Draw draw = draw_condition(rng, with_tape, options.seed * 1000 + c);
+    const FrameRenderer renderer(draw.camera, draw.scene);
+    const perception::LineEstimator estimator(draw.camera, draw.perception);
+    const perception::HoughBaseline baseline(draw.camera, draw.perception.tape.width_m);
+    // The longest the tape could be in view: through the image centre along the image's longer
+    // extent, about the floor view's diameter in the forward direction.
+    const ConditionTools tools{draw, renderer, estimator, baseline,
+                               2.0 * renderer.floor_map().view_radius_m() * 0.8};
+    for (int f = 0; f < options.frames_per_condition; ++f) {
+      const DrawnPose drawn = draw_pose(rng, draw.scene.tapes.front().path, with_tape);
+      cv::Mat frame;
+      perception::LineDetection detection;
+      LineMeasurement m;
+      BenchmarkFrame b = measure_frame(tools, drawn, f, with_tape, &frame, &detection, &m);
+      b.condition = c;
+      result.frames.push_back(b);
+      if (failed(b) && !options.save_failures_dir.empty() && saved < options.max_saved) {
+        char name[96], caption[128];
+        std::snprintf(name, sizeof(name), "/condition%03d_frame%02d.png", c, f);
+        std::snprintf(caption, sizeof(caption), "c%d f%d error %.2f mm %.2f deg | %s", c, f,
+                      1e3 * b.error_e_d_m, rad_to_deg(b.error_e_theta_rad), draw.text.c_str());
+        cv::imwrite(options.save_failures_dir + name,
+                    annotate_frame(frame, draw.camera, detection, m, caption));
+        ++saved;
+      }
+    }
+    if (progress) progress(static_cast<double>(c + 1) / total);
+  }
+  result.summary = summarise(result.frames, options.seed);
   return result;
 }
 

@@ -29,9 +29,15 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
       floor_map_(camera),
       texture_(kTexel_m, scene.floor.texture_feature_m, scene.seed),
       pieces_(tape_pieces(scene.tapes)) {
-  const int w = camera.intrinsics().width_px, h = camera.intrinsics().height_px;
-  const ImageEffects& fx = scene.effects;
-  for (const FloorTag& tag : scene.tags) {
+  make_tag_patterns();
+  make_floor_grids();
+  make_gain_and_glare();
+  make_tape_tables();
+  make_noise_bank();
+}
+
+void FrameRenderer::make_tag_patterns() {
+  for (const FloorTag& tag : scene_.tags) {
     perception::AprilTagDetector::Options options;
     options.family = tag.family;
     options.max_hamming = 0;  // only the pattern is needed
@@ -46,6 +52,10 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
     p.sin_yaw = std::sin(tag.pose.yaw_rad);
     tag_patterns_.push_back(p);
   }
+}
+
+void FrameRenderer::make_floor_grids() {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
   // Pixels that see no floor get floor point (0, 0) and zero gain: black plus noise.
   cv::patchNaNs(floor_x_m_ = floor_map_.x_m().clone(), 0.0);
   cv::patchNaNs(floor_y_m_ = floor_map_.y_m().clone(), 0.0);
@@ -54,6 +64,11 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
   const cv::Size texture_grid((w + 1) / 2, (h + 1) / 2);
   cv::resize(floor_x_m_, texture_x_m_, texture_grid, 0, 0, cv::INTER_AREA);
   cv::resize(floor_y_m_, texture_y_m_, texture_grid, 0, 0, cv::INTER_AREA);
+}
+
+void FrameRenderer::make_gain_and_glare() {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
+  const ImageEffects& fx = scene_.effects;
   gain_.create(h, w, CV_32F);
   glare_.create(h, w, CV_32F);
   const double cx = (w - 1) / 2.0, cy = (h - 1) / 2.0;
@@ -82,9 +97,13 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
           fx.specular_strength * std::exp(-(gu * gu + gv * gv) / (2.0 * radius_px * radius_px)));
     }
   }
+}
+
+void FrameRenderer::make_tape_tables() {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
   // Worn tape: where a second, finer floor-texture field exceeds the level that a fraction
   // `wear` of it exceeds (the standard normal quantile, by bisection on erfc).
-  for (const TapeStrip& strip : scene.tapes) {
+  for (const TapeStrip& strip : scene_.tapes) {
     double lo = -6.0, hi = 6.0;
     const double fraction = std::clamp(strip.wear, 1e-9, 1.0 - 1e-9);
     for (int i = 0; i < 60; ++i) {
@@ -95,7 +114,7 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
   }
   // Anti-aliasing: a pixel's coverage of the tape ramps over its footprint and the tape's soft
   // edge.
-  for (const TapeStrip& strip : scene.tapes) {
+  for (const TapeStrip& strip : scene_.tapes) {
     cv::Mat inverse_ramp(h, w, CV_32F);
     const float softness_sq = static_cast<float>(strip.edge_softness_m * strip.edge_softness_m);
     for (int v = 0; v < h; ++v) {
@@ -108,8 +127,12 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
     }
     inverse_ramp_.push_back(inverse_ramp);
   }
+}
+
+void FrameRenderer::make_noise_bank() {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
   noise_bank_.create(h + kNoiseMargin, 3 * w + kNoiseMargin, CV_8S);
-  cv::RNG rng(scene.seed * 0x9E3779B97F4A7C15ull + 17);
+  cv::RNG rng(scene_.seed * 0x9E3779B97F4A7C15ull + 17);
   for (int r = 0; r < noise_bank_.rows; ++r) {
     auto* row = noise_bank_.ptr<signed char>(r);
     for (int c = 0; c < noise_bank_.cols; ++c) {
@@ -124,6 +147,50 @@ cv::Mat FrameRenderer::render(const Pose2& pose, const BodyTwist& twist,
   cv::Mat frame;
   render_into(pose, twist, frame_index, &frame);
   return frame;
+}
+
+std::vector<FrameRenderer::SubPose> FrameRenderer::sub_poses(const Pose2& pose,
+                                                             const BodyTwist& twist, int count,
+                                                             bool with_pieces) const {
+  const double exposure_s = scene_.effects.exposure_s;
+  std::vector<SubPose> poses(count);
+  for (int k = 0; k < count; ++k) {
+    const double offset_s = count == 1 ? 0.0 : exposure_s * ((k + 0.5) / count - 0.5);
+    const Pose2 p = integrate_twist(pose, twist, offset_s);
+    poses[k].c = static_cast<float>(std::cos(p.yaw_rad));
+    poses[k].s = static_cast<float>(std::sin(p.yaw_rad));
+    poses[k].tx = static_cast<float>(p.x_m);
+    poses[k].ty = static_cast<float>(p.y_m);
+    if (!with_pieces) continue;
+    const Eigen::Vector2d view_world = p.transform(floor_map_.view_centre_m());
+    const Pose2 inverse = p.inverse();
+    for (const WorldPiece& piece : pieces_) {
+      const double reach_m =
+          floor_map_.view_radius_m() + piece.bound_radius_m + scene_.tapes[piece.strip].width_m;
+      if ((piece.bound_centre - view_world).norm() > reach_m) continue;
+      poses[k].pieces.push_back(to_local(piece, inverse));
+    }
+  }
+  return poses;
+}
+
+void FrameRenderer::render_texture(const std::vector<SubPose>& texture_poses) const {
+  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
+  cv::Mat& texture_small = workspace_.texture_small;
+  texture_small.create(texture_x_m_.size(), CV_32F);
+  texture_small.setTo(0.0f);
+  for (const SubPose& sp : texture_poses) {
+    for (int v = 0; v < texture_small.rows; ++v) {
+      const float* xs = texture_x_m_.ptr<float>(v);
+      const float* ys = texture_y_m_.ptr<float>(v);
+      float* out = texture_small.ptr<float>(v);
+      for (int u = 0; u < texture_small.cols; ++u) {
+        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx,
+                                  sp.s * xs[u] + sp.c * ys[u] + sp.ty);
+      }
+    }
+  }
+  cv::resize(texture_small, workspace_.texture_image, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
 }
 
 void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
@@ -143,158 +210,130 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   const int tape_samples = std::clamp(static_cast<int>(std::ceil(blur_px)), 1, kMaxBlurSamples);
   const int texture_samples =
       std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
-  struct SubPose {
-    float c, s, tx, ty;  // vehicle -> world
-    std::vector<LocalPiece> pieces;
-  };
-  auto sub_poses = [&](int count, bool with_pieces) {
-    std::vector<SubPose> poses(count);
-    for (int k = 0; k < count; ++k) {
-      const double offset_s = count == 1 ? 0.0 : fx.exposure_s * ((k + 0.5) / count - 0.5);
-      const Pose2 p = integrate_twist(pose, twist, offset_s);
-      poses[k].c = static_cast<float>(std::cos(p.yaw_rad));
-      poses[k].s = static_cast<float>(std::sin(p.yaw_rad));
-      poses[k].tx = static_cast<float>(p.x_m);
-      poses[k].ty = static_cast<float>(p.y_m);
-      if (!with_pieces) continue;
-      const Eigen::Vector2d view_world = p.transform(floor_map_.view_centre_m());
-      const Pose2 inverse = p.inverse();
-      for (const WorldPiece& piece : pieces_) {
-        const double reach_m =
-            floor_map_.view_radius_m() + piece.bound_radius_m + scene_.tapes[piece.strip].width_m;
-        if ((piece.bound_centre - view_world).norm() > reach_m) continue;
-        poses[k].pieces.push_back(to_local(piece, inverse));
-      }
-    }
-    return poses;
-  };
-  const std::vector<SubPose> tape_poses = sub_poses(tape_samples, true);
-  const std::vector<SubPose> texture_poses = sub_poses(texture_samples, false);
+  const std::vector<SubPose> tape_poses = sub_poses(pose, twist, tape_samples, true);
+  render_texture(sub_poses(pose, twist, texture_samples, false));
 
-  const int strips = static_cast<int>(scene_.tapes.size());
-  const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)),
-              centre_s = static_cast<float>(std::sin(pose.yaw_rad));
-  const float centre_tx = static_cast<float>(pose.x_m), centre_ty = static_cast<float>(pose.y_m);
+  RowContext row;
+  row.pose = &pose;
+  row.tape_poses = &tape_poses;
+  row.texture_scale = static_cast<float>(scene_.floor.texture_contrast) / texture_samples;
+  cv::RNG frame_rng(scene_.seed * 1000003ull + frame_index * 7919ull + 1);
+  row.noise_dx = frame_rng.uniform(0, kNoiseMargin);
+  row.noise_dy = frame_rng.uniform(0, kNoiseMargin);
+  row.noise_gain = static_cast<float>(fx.noise_sigma) / kNoiseScale;
+  RowBuffers buffers(w, static_cast<int>(scene_.tapes.size()));
+  cv::Mat* planes = workspace_.planes;
+  for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
+  for (int v = 0; v < h; ++v) {
+    shade_floor_row(v, row, &buffers);
+    for (int i = 0; i < static_cast<int>(scene_.tapes.size()); ++i)
+      draw_tape_in_row(v, i, row, &buffers);
+    if (!tag_patterns_.empty())
+      draw_tags_in_row(v, pose, buffers.blue.data(), buffers.green.data(), buffers.red.data());
+    expose_row(v, row, buffers);
+  }
+  cv::merge(planes, 3, *frame);
+}
+
+// The floor's colour along row v, with its texture.
+void FrameRenderer::shade_floor_row(int v, const RowContext& row, RowBuffers* b) const {
   const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
   const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
   const float floor_r = static_cast<float>(scene_.floor.color_bgr[2]);
-  const float floor_contrast = static_cast<float>(scene_.floor.texture_contrast);
+  const float* texture = workspace_.texture_image.ptr<float>(v);
+  for (int u = 0; u < static_cast<int>(b->blue.size()); ++u) {
+    const float t = 1.0f + row.texture_scale * texture[u];
+    b->blue[u] = floor_b * t;
+    b->green[u] = floor_g * t;
+    b->red[u] = floor_r * t;
+  }
+}
 
-  cv::RNG frame_rng(scene_.seed * 1000003ull + frame_index * 7919ull + 1);
-  const int noise_dx = frame_rng.uniform(0, kNoiseMargin);
-  const int noise_dy = frame_rng.uniform(0, kNoiseMargin);
-  const float noise_gain = static_cast<float>(fx.noise_sigma) / kNoiseScale;
-
-  // Floor texture over the exposure, on the half-resolution grid, then interpolated.
-  cv::Mat& texture_small = workspace_.texture_small;
-  texture_small.create(texture_x_m_.size(), CV_32F);
-  texture_small.setTo(0.0f);
-  for (const SubPose& sp : texture_poses) {
-    for (int v = 0; v < texture_small.rows; ++v) {
-      const float* xs = texture_x_m_.ptr<float>(v);
-      const float* ys = texture_y_m_.ptr<float>(v);
-      float* out = texture_small.ptr<float>(v);
-      for (int u = 0; u < texture_small.cols; ++u) {
-        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx,
-                                  sp.s * xs[u] + sp.c * ys[u] + sp.ty);
+// Tape strip i over row v: each pixel's coverage averaged over the exposure, worn patches, the
+// tape's colour blended over the floor by that coverage.
+void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuffers* b) const {
+  const int w = static_cast<int>(b->blue.size());
+  const float* xs = floor_x_m_.ptr<float>(v);
+  const float* ys = floor_y_m_.ptr<float>(v);
+  const float* texture = workspace_.texture_image.ptr<float>(v);
+  std::vector<float>& alpha = b->alpha[i];
+  std::fill(alpha.begin(), alpha.end(), 0.0f);
+  bool strip_in_row = false;
+  const float* inverse_ramp = inverse_ramp_[i].ptr<float>(v);
+  const TapeStrip& tape = scene_.tapes[i];
+  const float half_width = static_cast<float>(tape.width_m / 2.0);
+  for (const SubPose& sp : *row.tape_poses) {
+    std::fill(b->coverage.begin(), b->coverage.end(), 0.0f);
+    bool any = false;
+    for (const LocalPiece& piece : sp.pieces) {
+      if (piece.strip != i) continue;
+      any = true;
+      piece_distances(piece, xs, ys, w, b->distance.data());
+      for (int u = 0; u < w; ++u) {
+        // min/max rather than std::clamp: the latter's branches keep this from vectorising.
+        const float a =
+            std::min(std::max(0.5f + (half_width - b->distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
+        b->coverage[u] = std::max(b->coverage[u], a);
       }
     }
+    if (!any) continue;
+    strip_in_row = true;
+    for (int u = 0; u < w; ++u) alpha[u] += b->coverage[u];
   }
-  cv::Mat& texture_image = workspace_.texture_image;
-  cv::resize(texture_small, texture_image, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
-  const float texture_scale = floor_contrast / texture_samples;
+  if (!strip_in_row) return;
+  if (tape.wear > 0.0) wear_tape_in_row(v, i, *row.pose, &alpha);
+  const float tape_b = static_cast<float>(tape.color_bgr[0]);
+  const float tape_g = static_cast<float>(tape.color_bgr[1]);
+  const float tape_r = static_cast<float>(tape.color_bgr[2]);
+  const float tape_contrast =
+      static_cast<float>(tape.texture_contrast) /
+      static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast : 1.0);
+  const float inverse_samples = 1.0f / static_cast<int>(row.tape_poses->size());
+  for (int u = 0; u < w; ++u) {
+    const float a = alpha[u] * inverse_samples;
+    // The tape shares the floor's texture pattern, at its own (weaker) contrast.
+    const float t = 1.0f + tape_contrast * row.texture_scale * texture[u];
+    b->blue[u] += a * (tape_b * t - b->blue[u]);
+    b->green[u] += a * (tape_g * t - b->green[u]);
+    b->red[u] += a * (tape_r * t - b->red[u]);
+  }
+}
 
-  // Row buffers: every pass below is a simple loop over one image row.
-  std::vector<float> distance(w), coverage(w);
-  std::vector<float> blue(w), green(w), red(w);
-  std::vector<std::vector<float>> alpha(strips, std::vector<float>(w));
-  std::vector<bool> strip_in_row(strips);
-  cv::Mat* planes = workspace_.planes;
-  for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
+// Worn patches of strip i show the floor through the tape (world-fixed, 1-20 mm across).
+void FrameRenderer::wear_tape_in_row(int v, int i, const Pose2& pose,
+                                     std::vector<float>* alpha) const {
+  const float* xs = floor_x_m_.ptr<float>(v);
+  const float* ys = floor_y_m_.ptr<float>(v);
+  const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)),
+              centre_s = static_cast<float>(std::sin(pose.yaw_rad));
+  const float centre_tx = static_cast<float>(pose.x_m), centre_ty = static_cast<float>(pose.y_m);
+  for (int u = 0; u < static_cast<int>(alpha->size()); ++u) {
+    if ((*alpha)[u] <= 0.0f) continue;
+    const float wx = centre_c * xs[u] - centre_s * ys[u] + centre_tx;
+    const float wy = centre_s * xs[u] + centre_c * ys[u] + centre_ty;
+    const float t = texture_.sample(2.3f * wx + 13.1f, 2.3f * wy - 7.3f);
+    (*alpha)[u] *= std::clamp(1.0f - (t - wear_level_[i]) / 0.4f, 0.0f, 1.0f);
+  }
+}
 
-  for (int v = 0; v < h; ++v) {
-    const float* xs = floor_x_m_.ptr<float>(v);
-    const float* ys = floor_y_m_.ptr<float>(v);
-    const float* texture = texture_image.ptr<float>(v);
+// The camera over row v: vignetting and illumination gain, glare, sensor noise, 8-bit output
+// (one plane per channel, so that the loops vectorise; merged into BGR at the end).
+void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b) const {
+  const int w = static_cast<int>(b.blue.size());
+  const float* gain = gain_.ptr<float>(v);
+  const float* glare = glare_.ptr<float>(v);
+  const float* colour[3] = {b.blue.data(), b.green.data(), b.red.data()};
+  for (int ch = 0; ch < 3; ++ch) {
+    const signed char* noise =
+        noise_bank_.ptr<signed char>(v + row.noise_dy) + row.noise_dx + ch * w;
+    unsigned char* out = workspace_.planes[ch].ptr<unsigned char>(v);
+    const float* c = colour[ch];
     for (int u = 0; u < w; ++u) {
-      const float t = 1.0f + texture_scale * texture[u];
-      blue[u] = floor_b * t;
-      green[u] = floor_g * t;
-      red[u] = floor_r * t;
-    }
-
-    // Tape: coverage of each pixel by each strip, averaged over the exposure.
-    for (int i = 0; i < strips; ++i) {
-      std::fill(alpha[i].begin(), alpha[i].end(), 0.0f);
-      strip_in_row[i] = false;
-      const float* inverse_ramp = inverse_ramp_[i].ptr<float>(v);
-      const float half_width = static_cast<float>(scene_.tapes[i].width_m / 2.0);
-      for (const SubPose& sp : tape_poses) {
-        std::fill(coverage.begin(), coverage.end(), 0.0f);
-        bool any = false;
-        for (const LocalPiece& piece : sp.pieces) {
-          if (piece.strip != i) continue;
-          any = true;
-          piece_distances(piece, xs, ys, w, distance.data());
-          for (int u = 0; u < w; ++u) {
-            // min/max rather than std::clamp: the latter's branches keep this from vectorising.
-            const float a =
-                std::min(std::max(0.5f + (half_width - distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
-            coverage[u] = std::max(coverage[u], a);
-          }
-        }
-        if (!any) continue;
-        strip_in_row[i] = true;
-        for (int u = 0; u < w; ++u) alpha[i][u] += coverage[u];
-      }
-      if (!strip_in_row[i]) continue;
-      const float tape_b = static_cast<float>(scene_.tapes[i].color_bgr[0]);
-      const float tape_g = static_cast<float>(scene_.tapes[i].color_bgr[1]);
-      const float tape_r = static_cast<float>(scene_.tapes[i].color_bgr[2]);
-      const float tape_contrast =
-          static_cast<float>(scene_.tapes[i].texture_contrast) /
-          static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast
-                                                                 : 1.0);
-      const float inverse_samples = 1.0f / tape_samples;
-      if (scene_.tapes[i].wear > 0.0) {
-        // Worn patches show the floor through the tape (world-fixed, 1-20 mm across).
-        for (int u = 0; u < w; ++u) {
-          if (alpha[i][u] <= 0.0f) continue;
-          const float wx = centre_c * xs[u] - centre_s * ys[u] + centre_tx;
-          const float wy = centre_s * xs[u] + centre_c * ys[u] + centre_ty;
-          const float t = texture_.sample(2.3f * wx + 13.1f, 2.3f * wy - 7.3f);
-          alpha[i][u] *= std::clamp(1.0f - (t - wear_level_[i]) / 0.4f, 0.0f, 1.0f);
-        }
-      }
-      for (int u = 0; u < w; ++u) {
-        const float a = alpha[i][u] * inverse_samples;
-        // The tape shares the floor's texture pattern, at its own (weaker) contrast.
-        const float t = 1.0f + tape_contrast * texture_scale * texture[u];
-        blue[u] += a * (tape_b * t - blue[u]);
-        green[u] += a * (tape_g * t - green[u]);
-        red[u] += a * (tape_r * t - red[u]);
-      }
-    }
-
-    if (!tag_patterns_.empty()) draw_tags_in_row(v, pose, blue.data(), green.data(), red.data());
-
-    // Camera: vignetting and illumination gain, sensor noise, 8-bit output (one plane per
-    // channel, so that the loops vectorise; merged into BGR at the end).
-    const float* gain = gain_.ptr<float>(v);
-    const float* glare = glare_.ptr<float>(v);
-    const float* colour[3] = {blue.data(), green.data(), red.data()};
-    for (int ch = 0; ch < 3; ++ch) {
-      const signed char* noise = noise_bank_.ptr<signed char>(v + noise_dy) + noise_dx + ch * w;
-      unsigned char* out = planes[ch].ptr<unsigned char>(v);
-      const float* c = colour[ch];
-      for (int u = 0; u < w; ++u) {
-        const float value = std::min(
-            std::max(c[u] * gain[u] + glare[u] + noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
-        out[u] = static_cast<unsigned char>(static_cast<int>(value));
-      }
+      const float value = std::min(
+          std::max(c[u] * gain[u] + glare[u] + row.noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
+      out[u] = static_cast<unsigned char>(static_cast<int>(value));
     }
   }
-  cv::merge(planes, 3, *frame);
 }
 
 void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green,

@@ -54,11 +54,52 @@ class FrameRenderer {
   std::vector<TagPattern> tag_patterns_;
   // Tags drawn into one row of colour buffers (no motion blur: tags serve static calibration).
   void draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green, float* red) const;
-  std::vector<cv::Mat> inverse_ramp_;
+  std::vector<cv::Mat> inverse_ramp_;  // CV_32F per strip: 1 / edge ramp width at each pixel
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
     cv::Mat texture_small, texture_image, planes[3];
   };
-  mutable Workspace workspace_;  // CV_32F per strip: 1 / edge ramp width at each pixel
+  mutable Workspace workspace_;
+
+  // Built once, in the constructor.
+  void make_tag_patterns();
+  void make_floor_grids();
+  void make_gain_and_glare();
+  void make_tape_tables();
+  void make_noise_bank();
+
+  // One pose within the exposure, with the tape pieces it can see (vehicle frame).
+  struct SubPose {
+    float c, s, tx, ty;  // vehicle -> world
+    std::vector<LocalPiece> pieces;
+  };
+  // `count` poses spread over the exposure, centred on `pose`.
+  std::vector<SubPose> sub_poses(const Pose2& pose, const BodyTwist& twist, int count,
+                                 bool with_pieces) const;
+  // The floor texture over the exposure, into workspace_.texture_image.
+  void render_texture(const std::vector<SubPose>& texture_poses) const;
+  // What every row of a frame shares, and the buffers one row is drawn in.
+  struct RowContext {
+    const Pose2* pose = nullptr;
+    const std::vector<SubPose>* tape_poses = nullptr;
+    float texture_scale = 0.0f;
+    int noise_dx = 0, noise_dy = 0;
+    float noise_gain = 0.0f;
+  };
+  struct RowBuffers {
+    RowBuffers(int width, int strips)
+        : distance(width),
+          coverage(width),
+          blue(width),
+          green(width),
+          red(width),
+          alpha(strips, std::vector<float>(width)) {}
+    std::vector<float> distance, coverage, blue, green, red;
+    std::vector<std::vector<float>> alpha;  // per strip: coverage summed over the exposure
+  };
+  void shade_floor_row(int v, const RowContext& row, RowBuffers* buffers) const;
+  void draw_tape_in_row(int v, int strip, const RowContext& row, RowBuffers* buffers) const;
+  void wear_tape_in_row(int v, int strip, const Pose2& pose, std::vector<float>* alpha) const;
+  void expose_row(int v, const RowContext& row, const RowBuffers& buffers) const;
 };
 
 }  // namespace agv::pipeline
