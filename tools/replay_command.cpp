@@ -44,9 +44,7 @@ int run_replay_command(const ReplayArgs& args) {
                      " cannot be replayed; track it with agv track");
   }
   pipeline::OutputFolder folder(args.out_dir);
-  FrameAnnotator annotator(folder, setup.camera, !args.no_video,
-                           1.0 / std::max(1e-3, setup.opened.source->frame_period_s()),
-                           setup.opened.source->frame_count());
+  FrameAnnotator annotator(folder, setup, !args.no_video);
   pipeline::RecordedRunOptions options;
   options.perception = setup.perception;
   options.sink = annotator.sink();
@@ -57,35 +55,11 @@ int run_replay_command(const ReplayArgs& args) {
                                      [&](double f) { bar.update(f); });
   }
   annotator.finish();
-
-  const bool has_truth = setup.opened.has_truth;
-  const SourceFigures figures = source_figures(result);
-  nlohmann::json summary = source_summary(result, figures, has_truth);
-  summary["source"] = args.source;
-  summary["source_kind"] = setup.opened.kind;
-  summary["camera"] = setup.opened.camera_name;
-  summary["scenario"] = setup.scenario.source_name;
-  summary["branch"] = args.branch;
-  summary["ts_s"] = setup.scenario.controller.ts_s;
-  summary["frames_tracked"] = result.perception_counts.tracked;
-  summary["frames_searched"] = result.perception_counts.searched;
-  write_measurements(folder, result, has_truth);
   write_commands(folder, result);
-  {
-    std::ofstream json(folder.file("summary.json"));
-    json << summary.dump(2) << '\n';
-    if (!json) throw InputError(folder.target().string() + ": cannot write the results");
-  }
-  const std::string failure = plot_measurements(
-      folder, result, has_truth, plot_title("replay of", setup.opened.kind, args.source));
-  if (!failure.empty()) std::cerr << "agv replay: warning: plot skipped: " << failure << '\n';
-  folder.commit();
-
-  if (args.json) {
-    summary["output"] = folder.target().string();
-    std::cout << summary.dump(2) << '\n';
-    return 0;
-  }
+  const SourceFigures figures = source_figures(result);
+  nlohmann::json summary = source_summary(result, figures, setup, args);
+  finish_source_run(folder, result, setup, summary, "replay of", "replay", args.json);
+  if (args.json) return 0;
   std::printf(
       "frames %d | lost %d | bad %d | junctions %d | perception rms %s mm / %s deg | %.2f ms per "
       "frame (median)\n",

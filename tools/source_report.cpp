@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -17,14 +18,16 @@
 
 namespace agv::tools {
 
-FrameAnnotator::FrameAnnotator(const pipeline::OutputFolder& folder,
-                               const perception::CameraModel& camera, bool video, double fps,
-                               long expected_frames)
+FrameAnnotator::FrameAnnotator(const pipeline::OutputFolder& folder, const SourceSetup& setup,
+                               bool video)
     : folder_(folder),
-      camera_(camera),
+      camera_(setup.camera),
       video_enabled_(video),
-      fps_(std::clamp(fps, 1.0, 60.0)),
-      strip_every_(std::max(1L, expected_frames / 12)) {}
+      fps_(std::clamp(setup.opened.source->frame_period_s() > 0.0
+                          ? 1.0 / setup.opened.source->frame_period_s()
+                          : 30.0,
+                      1.0, 60.0)),
+      strip_every_(std::max(1L, setup.opened.source->frame_count() / 12)) {}
 
 pipeline::FrameSink FrameAnnotator::sink() {
   return [this](const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
@@ -98,19 +101,27 @@ SourceFigures source_figures(const pipeline::RunResult& result) {
 }
 
 nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFigures& f,
-                              bool has_truth) {
+                              const SourceSetup& setup, const SourceArgs& args) {
   auto rms_or_null = [](const std::vector<double>& v) {
     return v.empty() ? nlohmann::json(nullptr) : nlohmann::json(rms(v));
   };
   nlohmann::json j;
+  j["source"] = args.source;
+  j["source_kind"] = setup.opened.kind;
+  j["camera"] = setup.opened.camera_name;
+  j["scenario"] = setup.scenario.source_name;
   j["controller"] = result.controller_name;
+  j["ts_s"] = setup.scenario.controller.ts_s;
+  j["branch"] = args.branch;
   j["frames"] = f.frames;
   j["frames_lost"] = f.lost;
   j["frames_bad"] = f.bad;
   j["bad_frames"] = f.bad_frames;
   j["frames_dropped"] = result.frames_dropped;
   j["frames_with_junction"] = f.junctions;
-  j["has_ground_truth"] = has_truth;
+  j["has_ground_truth"] = setup.opened.has_truth;
+  j["frames_tracked"] = result.perception_counts.tracked;
+  j["frames_searched"] = result.perception_counts.searched;
   j["perception_rms_e_d_m"] = rms_or_null(f.error_e_d_m);
   j["perception_rms_e_theta_rad"] = rms_or_null(f.error_e_theta_rad);
   j["commands"] = result.rows.size();
@@ -122,18 +133,13 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
   return j;
 }
 
-void write_measurements(const pipeline::OutputFolder& folder, const pipeline::RunResult& result,
-                        bool has_truth) {
-  std::ofstream csv(folder.file("measurements.csv"));
-  pipeline::write_measurements_csv(csv, result.frames, has_truth);
-  if (!csv) throw InputError(folder.file("measurements.csv").string() + ": cannot write");
-}
-
 void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunResult& result) {
   std::ofstream out(folder.file("commands.jsonl"));
   for (const pipeline::TraceRow& row : result.rows) out << pipeline::command_json_line(row) << '\n';
   if (!out) throw InputError(folder.file("commands.jsonl").string() + ": cannot write");
 }
+
+namespace {
 
 std::string plot_measurements(const pipeline::OutputFolder& folder,
                               const pipeline::RunResult& result, bool has_truth,
@@ -169,12 +175,37 @@ std::string plot_measurements(const pipeline::OutputFolder& folder,
   return run_gnuplot(script.str());
 }
 
+// A plot title that fits: "replay of video file run.avi", a long source cut short.
 std::string plot_title(const std::string& what, const std::string& kind,
                        const std::string& source) {
   constexpr size_t kMaxSource = 70;  // the title must fit above a 1100 px wide plot
   const std::string shown =
       source.size() <= kMaxSource ? source : source.substr(0, kMaxSource - 3) + "...";
   return what + " " + kind + " " + shown;
+}
+
+}  // namespace
+
+void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult& result,
+                       const SourceSetup& setup, nlohmann::json summary, const std::string& what,
+                       const std::string& command, bool json) {
+  const bool has_truth = setup.opened.has_truth;
+  {
+    std::ofstream csv(folder.file("measurements.csv"));
+    pipeline::write_measurements_csv(csv, result.frames, has_truth);
+    std::ofstream out(folder.file("summary.json"));
+    out << summary.dump(2) << '\n';
+    if (!csv || !out) throw InputError(folder.target().string() + ": cannot write the results");
+  }
+  const std::string failure =
+      plot_measurements(folder, result, has_truth,
+                        plot_title(what, setup.opened.kind, summary["source"].get<std::string>()));
+  if (!failure.empty())
+    std::cerr << "agv " << command << ": warning: plot skipped: " << failure << '\n';
+  folder.commit();
+  if (!json) return;
+  summary["output"] = folder.target().string();
+  std::cout << summary.dump(2) << '\n';
 }
 
 std::string rms_text(const std::vector<double>& values, double scale) {

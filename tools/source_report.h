@@ -11,6 +11,7 @@
 #include "pipeline/camera_stage.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "pipeline/run_result.h"
+#include "tools/source_setup.h"
 
 namespace agv::tools {
 
@@ -18,8 +19,8 @@ namespace agv::tools {
 // perception found on it) and strip.png (up to 12 frames spread over the run).
 class FrameAnnotator {
  public:
-  FrameAnnotator(const pipeline::OutputFolder& folder, const perception::CameraModel& camera,
-                 bool video, double fps, long expected_frames);
+  // The video plays at the source's frame rate (30 frames/s for a live source).
+  FrameAnnotator(const pipeline::OutputFolder& folder, const SourceSetup& setup, bool video);
   // The camera stage's sink.
   pipeline::FrameSink sink();
   // Writes strip.png and closes the video.
@@ -47,21 +48,20 @@ struct SourceFigures {
 };
 SourceFigures source_figures(const pipeline::RunResult& result);
 
-// The summary.json keys replay and track share.
+// The summary.json keys replay and track share: the counts and accuracy, what ran on what.
 nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFigures& figures,
-                              bool has_truth);
+                              const SourceSetup& setup, const SourceArgs& args);
 
-// measurements.csv, commands.jsonl (replay writes it after the run; track streams it) and
-// errors.png (measured against true errors over time).
-void write_measurements(const pipeline::OutputFolder& folder, const pipeline::RunResult& result,
-                        bool has_truth);
+// commands.jsonl after the run (replay; track streams it as it goes).
 void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunResult& result);
-std::string plot_measurements(const pipeline::OutputFolder& folder,
-                              const pipeline::RunResult& result, bool has_truth,
-                              const std::string& title);
 
-// A plot title that fits: "replay of video file run.avi", a long source cut short.
-std::string plot_title(const std::string& what, const std::string& kind, const std::string& source);
+// The end of replay and track: measurements.csv, summary.json and errors.png (measured against
+// true errors over time, titled "<what> <source>") into the folder, which is then committed;
+// with `json`, summary.json with the output folder on stdout. `command` names the program in
+// warnings.
+void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult& result,
+                       const SourceSetup& setup, nlohmann::json summary, const std::string& what,
+                       const std::string& command, bool json);
 
 // "0.123" in the unit given, or "n/a" for an empty set.
 std::string rms_text(const std::vector<double>& values, double scale);

@@ -98,9 +98,7 @@ int run_track_command(const TrackArgs& args) {
                      "; its frames come when they come");
   pipeline::OutputFolder folder(args.out_dir);
   pipeline::CommandStream commands(folder.file("commands.jsonl"), args.udp);
-  FrameAnnotator annotator(folder, setup.camera, !args.no_video,
-                           source.frame_period_s() > 0.0 ? 1.0 / source.frame_period_s() : 30.0,
-                           source.frame_count());
+  FrameAnnotator annotator(folder, setup, !args.no_video);
   pipeline::RecordedRunOptions options;
   options.real_time = !args.as_fast_as_possible;
   options.brake_at_end = true;
@@ -122,33 +120,13 @@ int run_track_command(const TrackArgs& args) {
     throw InputError(folder.file("commands.jsonl").string() + ": cannot write");
 
   const SourceFigures figures = source_figures(result);
-  nlohmann::json summary = source_summary(result, figures, setup.opened.has_truth);
-  summary["source"] = args.source;
-  summary["source_kind"] = setup.opened.kind;
-  summary["camera"] = setup.opened.camera_name;
-  summary["scenario"] = setup.scenario.source_name;
-  summary["ts_s"] = setup.scenario.controller.ts_s;
+  nlohmann::json summary = source_summary(result, figures, setup, args);
   summary["real_time"] = options.real_time;
   summary["udp"] = args.udp;
   summary["udp_failures"] = commands.udp_failures();
   summary["tracking"] = tracking_figures(result);
-  write_measurements(folder, result, setup.opened.has_truth);
-  {
-    std::ofstream json(folder.file("summary.json"));
-    json << summary.dump(2) << '\n';
-    if (!json) throw InputError(folder.target().string() + ": cannot write the results");
-  }
-  const std::string failure =
-      plot_measurements(folder, result, setup.opened.has_truth,
-                        plot_title("tracking", setup.opened.kind, args.source));
-  if (!failure.empty()) std::cerr << "agv track: warning: plot skipped: " << failure << '\n';
-  folder.commit();
-
-  if (args.json) {
-    summary["output"] = folder.target().string();
-    std::cout << summary.dump(2) << '\n';
-    return 0;
-  }
+  finish_source_run(folder, result, setup, summary, "tracking", "track", args.json);
+  if (args.json) return 0;
   const nlohmann::json& t = summary["tracking"];
   std::printf(
       "frames %d processed, %llu dropped | lost %d | measurement age median %.1f ms, p99 %.1f "
