@@ -31,7 +31,10 @@ void add_replay_command(CLI::App& app, ReplayArgs& args) {
       "(one command per control period), summary.json (frames, lost, bad, timing, and "
       "perception RMS against the manifest's ground truth when it has one), errors.png, "
       "strip.png and annotated.avi.");
-  add_source_options(sub, args);
+  add_source_options(sub, args,
+                     "Dataset folder, bare folder of images (with --camera, --fps) or video file "
+                     "(with --camera)",
+                     /*video_by_default=*/true);
   sub->add_flag("--skip-bad-frames", args.skip_bad_frames,
                 "Count unreadable or wrong-sized frames, report them in summary.json and go on "
                 "(default: stop)");

@@ -20,7 +20,8 @@ struct SourceArgs {
   double tape_width_m = 0.0;  // 0: from the camera file, else the scenario's
   std::string tape_color;     // "B,G,R"; empty: from the camera file, else automatic
   bool no_tracking = false;
-  bool no_video = false;
+  bool no_video = false;  // replay: --no-video
+  bool video = false;     // track: --video
   std::string out_dir;
   bool json = false;
   bool quiet = false;
@@ -30,9 +31,10 @@ struct ReplayArgs : SourceArgs {
   bool skip_bad_frames = false;
 };
 
-// The options replay and track share (the source last); annotated.avi is written unless
-// --no-video, or with video_by_default false only with --video.
-void add_source_options(CLI::App* sub, SourceArgs& args, bool video_by_default = true);
+// The options replay and track share, the source described as `sources`. Replay writes
+// annotated.avi unless --no-video; track (live: video_by_default false) only with --video.
+void add_source_options(CLI::App* sub, SourceArgs& args, const std::string& sources,
+                        bool video_by_default);
 
 void add_replay_command(CLI::App& app, ReplayArgs& args);
 

@@ -33,7 +33,8 @@ cv::Vec3d parse_colour(const std::string& text) {
 
 }  // namespace
 
-void add_source_options(CLI::App* sub, SourceArgs& args, bool video_by_default) {
+void add_source_options(CLI::App* sub, SourceArgs& args, const std::string& sources,
+                        bool video_by_default) {
   sub->add_option("--camera", args.camera,
                   "Camera YAML (default: the dataset's camera.yaml; needed for anything else)");
   sub->add_option("--fps", args.fps, "Frame rate of a bare folder of images (its times)")
@@ -62,16 +63,13 @@ void add_source_options(CLI::App* sub, SourceArgs& args, bool video_by_default) 
   if (video_by_default) {
     sub->add_flag("--no-video", args.no_video, "Skip annotated.avi");
   } else {
-    args.no_video = true;
-    sub->add_flag("--video{false}", args.no_video,
+    sub->add_flag("--video", args.video,
                   "Also write annotated.avi (costs the camera thread a few ms a frame)");
   }
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
   sub->add_flag("--json", args.json, "Print summary.json (with the output folder) on stdout");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
-  sub->add_option("source", args.source,
-                  "Dataset folder, image folder or video file (track: or a live source)")
-      ->required();
+  sub->add_option("source", args.source, sources)->required();
 }
 
 SourceSetup set_up_source(const SourceArgs& args, bool pass_bad_frames) {

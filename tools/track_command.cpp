@@ -81,7 +81,10 @@ void add_track_command(CLI::App& app, TrackArgs& args) {
       "source stop it cleanly: the vehicle is braked within its limits and the last command is "
       "a stop; a source that stalls is reported by the watchdog and the vehicle is stopped. "
       "Writes measurements.csv, commands.jsonl, summary.json, errors.png and strip.png.");
-  add_source_options(sub, args, /*video_by_default=*/false);
+  add_source_options(sub, args,
+                     "/dev/videoN or a device index, a GStreamer pipeline (with '!'), a stream "
+                     "URL, a video file, a dataset or an image folder",
+                     /*video_by_default=*/false);
   sub->add_option("--duration", args.duration_s, "Stop after this many seconds of the source")
       ->check(CLI::PositiveNumber);
   sub->add_option("--udp", args.udp,
@@ -98,7 +101,7 @@ int run_track_command(const TrackArgs& args) {
                      "; its frames come when they come");
   pipeline::OutputFolder folder(args.out_dir);
   pipeline::CommandStream commands(folder.file("commands.jsonl"), args.udp);
-  FrameAnnotator annotator(folder, setup, !args.no_video);
+  FrameAnnotator annotator(folder, setup, args.video);
   pipeline::RecordedRunOptions options;
   options.real_time = !args.as_fast_as_possible;
   options.brake_at_end = true;
