@@ -64,11 +64,11 @@ case "$mode" in
     # Sanitizers slow frames down 5-15 times: the threaded loop's timing is compared with
     # lockstep's only here, one test at a time so that nothing else competes for the cores.
     echo "setup: build without sanitizers, the threaded loop against lockstep"
-    test_build build-timing "" pipeline_tests
+    test_build build-timing "" pipeline_loop_tests
     (cd build-timing && ctest --output-on-failure \
       -R "^(ClosedLoop\.(ThreadedModeMatchesLockstep|LatencyIsCountedInCameraFrames)|Loop\.Threaded.*)$" "$@")
     echo "setup: ThreadSanitizer build, threaded tests (queue, loop, closed loop, watchdog)"
-    test_build build-tsan thread pipeline_tests
+    test_build build-tsan thread pipeline_loop_tests
     cd build-tsan
     export TSAN_OPTIONS="suppressions=$PWD/../tests/tsan.supp halt_on_error=1"
     # The threaded closed-loop tests run on real time: the comparison runs (several closed loops
