@@ -203,6 +203,61 @@ TEST_F(AgvTrack, TracksALiveGStreamerPipeline) {
   EXPECT_NE(refused.output.find("live"), std::string::npos) << refused.output;
 }
 
+// A camera that stalls: raw frames piped into a GStreamer pipeline (fdsrc), 15 frames, then
+// nothing for 1.5 s, then 15 more. The watchdog reports the camera thread silent, the vehicle is
+// stopped (after the hold time, within its acceleration limit) while no frames come, and it
+// drives on when they come again.
+TEST_F(AgvTrack, AStallingSourceIsReportedAndTheVehicleStops) {
+  make_video(1);
+  const std::string command =
+      std::string(AGV_BINARY) +
+      " track --quiet \"fdsrc ! rawvideoparse width=640 height=480 format=bgr framerate=10/1 ! "
+      "videoconvert ! video/x-raw,format=BGR ! appsink\"" +
+      camera() + " --out " + path("stall") + " > " + path("stall.log") + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "w");
+  ASSERT_NE(pipe, nullptr);
+  std::vector<fs::path> frames;
+  for (const auto& entry : fs::directory_iterator(dir_ / "dataset" / "frames"))
+    frames.push_back(entry.path());
+  std::sort(frames.begin(), frames.end());
+  auto send = [&](size_t from, size_t to) {
+    for (size_t i = from; i < to; ++i) {
+      const cv::Mat frame = cv::imread(frames[i % frames.size()].string());
+      fwrite(frame.data, 1, frame.total() * frame.elemSize(), pipe);
+      fflush(pipe);
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+  };
+  send(0, 15);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  send(15, 30);
+  const int status = pclose(pipe);
+  std::ifstream log(path("stall.log"));
+  const std::string output((std::istreambuf_iterator<char>(log)), {});
+  if (WEXITSTATUS(status) == 2 && output.find("cannot open") != std::string::npos)
+    GTEST_SKIP() << "no GStreamer fdsrc / rawvideoparse here: " << output;
+  ASSERT_EQ(WEXITSTATUS(status), 0) << output;
+  const nlohmann::json s = read_json(dir_ / "stall" / "summary.json");
+  bool camera_reported = false;
+  for (const auto& stall : s["tracking"]["watchdog_stalls"])
+    camera_reported |= stall["thread"] == "camera" && stall["silent_for_s"].get<double>() >= 1.0;
+  EXPECT_TRUE(camera_reported) << s["tracking"].dump();
+  const std::vector<nlohmann::json> commands = read_jsonl(dir_ / "stall" / "commands.jsonl");
+  bool stopped_in_stall = false, moving_after = false;
+  for (size_t i = 1; i < commands.size(); ++i) {
+    const bool stale = !commands[i]["age_s"].is_null() && commands[i]["age_s"].get<double>() > 0.8;
+    if (stale && is_stop(commands[i])) stopped_in_stall = true;
+    if (stopped_in_stall && commands[i]["v_x_m_s"].get<double>() > 0.1) moving_after = true;
+    // Never faster than the acceleration limit allows (0.5 m/s^2 over 0.1 s), plus rounding.
+    EXPECT_LE(
+        std::abs(commands[i]["v_x_m_s"].get<double>() - commands[i - 1]["v_x_m_s"].get<double>()),
+        0.05 + 1e-9);
+  }
+  EXPECT_TRUE(stopped_in_stall);
+  EXPECT_TRUE(moving_after);
+  EXPECT_TRUE(is_stop(commands.back()));
+}
+
 // A bare folder of real images (no manifest: name order, times from --fps) replayed with a
 // camera file: one measurement per image, the columns of DESIGN.md, a command per period.
 TEST_F(AgvTrack, ReplaysABareFolderOfRealImages) {
