@@ -18,6 +18,9 @@ struct LineMeasurement {
   double tape_width_m = 0.0;    // measured width of the tape
   int lines_seen = 0;           // guide lines in view (junctions, forks, crossings: more than 1)
   bool junction_ahead = false;  // lines meet in view
+  // The errors come from the line in view carried back to the vehicle (no remembered tape under
+  // it yet), not from the tape under the vehicle.
+  bool extrapolated = false;
   // Pose input only (controller.input: pose): arc length from the foot point to the end of
   // the path, negative past it. A camera cannot see it: infinite.
   double path_remaining_m = std::numeric_limits<double>::infinity();

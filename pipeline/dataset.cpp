@@ -216,11 +216,11 @@ DatasetWriter::DatasetWriter(const fs::path& folder, const perception::CameraFil
   if (error)
     throw InputError((folder_ / "frames").string() + ": cannot create: " + error.message());
   perception::save_camera_file((folder_ / "camera.yaml").string(), camera);
-  manifest_ = "index,t_s,file,x_m,y_m,yaw_rad,e_theta_rad,e_d_m\n";
+  manifest_ = "index,t_s,file,x_m,y_m,yaw_rad,e_theta_rad,e_d_m,odom_x_m,odom_y_m,odom_yaw_rad\n";
 }
 
 void DatasetWriter::add(int index, double t_s, const cv::Mat& frame, const Pose2& pose,
-                        const control::TrackingError& truth) {
+                        const control::TrackingError& truth, const Pose2& odometry) {
   char name[64];
   std::snprintf(name, sizeof(name), "frames/%06d.%s", index, format_ == "jpg" ? "jpg" : "png");
   const std::vector<int> parameters =
@@ -229,9 +229,10 @@ void DatasetWriter::add(int index, double t_s, const cv::Mat& frame, const Pose2
   if (!cv::imwrite((folder_ / name).string(), frame, parameters)) {
     throw InputError((folder_ / name).string() + ": cannot write the frame");
   }
-  char row[256];
-  std::snprintf(row, sizeof(row), "%d,%.6f,%s,%.9f,%.9f,%.9f,%.9f,%.9f\n", index, t_s, name,
-                pose.x_m, pose.y_m, pose.yaw_rad, truth.e_theta_rad, truth.e_d_m);
+  char row[384];
+  std::snprintf(row, sizeof(row), "%d,%.6f,%s,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f\n", index,
+                t_s, name, pose.x_m, pose.y_m, pose.yaw_rad, truth.e_theta_rad, truth.e_d_m,
+                odometry.x_m, odometry.y_m, odometry.yaw_rad);
   manifest_ += row;
   ++frames_;
 }

@@ -52,14 +52,15 @@ Dataset open_dataset(const std::string& path, const std::string& camera_path, do
 // True for names ending in a video extension (.avi, .mp4, .mkv, .mov, .webm).
 bool looks_like_video(const std::string& path);
 
-// Writes a dataset: frames/NNNNNN.png or .jpg, manifest.csv with the ground-truth columns, and
-// camera.yaml. Everything goes into `folder` (a temporary folder renamed at the end by its owner).
+// Writes a dataset: frames/NNNNNN.png or .jpg, manifest.csv with the ground-truth and wheel
+// odometry columns, and camera.yaml. Everything goes into `folder` (a temporary folder renamed at
+// the end by its owner).
 class DatasetWriter {
  public:
   DatasetWriter(const std::filesystem::path& folder, const perception::CameraFile& camera,
                 const std::string& format, int jpeg_quality);
   void add(int index, double t_s, const cv::Mat& frame, const Pose2& pose,
-           const control::TrackingError& truth);
+           const control::TrackingError& truth, const Pose2& odometry);
   void finish();
   int frames() const { return frames_; }
 

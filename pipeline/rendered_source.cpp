@@ -6,10 +6,11 @@ namespace agv::pipeline {
 
 RenderedSource::RenderedSource(std::unique_ptr<FrameRenderer> renderer,
                                const SimulatedVehicle& vehicle, PathTruth truth,
-                               double frame_period_s, double end_s)
+                               WheelOdometry odometry, double frame_period_s, double end_s)
     : renderer_(std::move(renderer)),
       vehicle_(vehicle),
       truth_(std::move(truth)),
+      odometry_(std::move(odometry)),
       frame_period_s_(frame_period_s),
       end_s_(end_s) {}
 
@@ -34,6 +35,7 @@ std::optional<SourceFrame> RenderedSource::next() {
   frame.pose = state.pose;
   frame.twist = state.twist;
   frame.truth = truth_.errors(state.pose);
+  frame.odometry = odometry_.update(state.pose);
   if (renderer_) {
     // Drawn into one buffer kept between frames: the camera stage is done with a frame before
     // it asks for the next.

@@ -6,6 +6,7 @@
 #include "pipeline/sim/frame_renderer.h"
 #include "pipeline/sim/path_truth.h"
 #include "pipeline/sim/simulated_vehicle.h"
+#include "pipeline/sim/wheel_odometry.h"
 
 namespace agv::pipeline {
 
@@ -16,7 +17,7 @@ namespace agv::pipeline {
 class RenderedSource : public FrameSource {
  public:
   RenderedSource(std::unique_ptr<FrameRenderer> renderer, const SimulatedVehicle& vehicle,
-                 PathTruth truth, double frame_period_s, double end_s);
+                 PathTruth truth, WheelOdometry odometry, double frame_period_s, double end_s);
 
   std::optional<SourceFrame> next() override;
   std::optional<double> next_time_s() const override;
@@ -28,6 +29,7 @@ class RenderedSource : public FrameSource {
   std::unique_ptr<FrameRenderer> renderer_;
   const SimulatedVehicle& vehicle_;
   PathTruth truth_;
+  WheelOdometry odometry_;
   double frame_period_s_, end_s_;
   std::uint64_t next_index_ = 0;
   cv::Mat image_;

@@ -18,9 +18,10 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
   CLI::App* sub = app.add_subcommand(
       "record",
       "Records a simulated closed-loop run as a dataset: frames/ (one image per control period), "
-      "manifest.csv (index,t_s,file,x_m,y_m,yaw_rad,e_theta_rad,e_d_m: the true pose and errors of "
-      "each "
-      "frame) and camera.yaml (with the tape's width and colour as hints), for `agv replay` or "
+      "manifest.csv "
+      "(index,t_s,file,x_m,y_m,yaw_rad,e_theta_rad,e_d_m,odom_x_m,odom_y_m,odom_yaw_rad: "
+      "the true pose and errors of each frame and the wheel odometry) and camera.yaml (with the "
+      "tape's width and colour as hints), for `agv replay` or "
       "other tools.");
   sub->add_option("--scenario", args.scenario_file,
                   "Scenario YAML (default: the built-in default scenario)");
@@ -49,7 +50,7 @@ int run_record(const RecordArgs& args) {
         [&](const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
             const perception::LineDetection*) {
           writer.add(static_cast<int>(record.index), record.stamp_s, frame.image, *frame.pose,
-                     *record.truth);
+                     *record.truth, *frame.odometry);
         });
   }
   writer.finish();

@@ -33,7 +33,7 @@ RunResult run_on_source(FrameSource& source, const perception::CameraModel& came
                         const Scenario& s, const RecordedRunOptions& options,
                         const Progress& progress) {
   const Clock::time_point start = Clock::now();
-  ImagePerceiver perceiver(camera, options.perception);
+  ImagePerceiver perceiver(camera, options.perception, s.perception_path_memory);
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, QueuePolicy::kDropOldest);
   CameraStage::Options camera_options;
   camera_options.sink_wants_details = static_cast<bool>(options.sink);

@@ -18,6 +18,7 @@
 #include "pipeline/bounded_queue.h"  // QueuePolicy
 #include "pipeline/sim/frame_faults.h"
 #include "pipeline/sim/scene.h"
+#include "pipeline/sim/wheel_odometry.h"
 #include "pipeline/threaded_loop.h"  // InjectedHang
 
 namespace agv::pipeline {
@@ -119,6 +120,9 @@ struct Scenario {
   bool tape_color_hint = true;              // perception is told the tape colour
   bool perception_tracking = true;          // track the line between full-frame searches
   int perception_search_every_frames = 10;  // full-frame search at least this often
+  bool perception_path_memory = true;       // e_d, e_theta from the remembered tape under the
+                                            //   vehicle (false: carried back from the view)
+  OdometryNoise odometry;                   // the vehicle's wheel odometry
   std::string camera_name;                  // where the camera came from
   perception::CameraFile camera;
   // The mount the camera really has, when it differs from the camera file's (what a wrong or

@@ -224,6 +224,17 @@ void read_perception(YamlReader& in, Scenario* s) {
   s->perception_tracking = in.boolean("perception.tracking", s->perception_tracking);
   s->perception_search_every_frames =
       in.integer("perception.search_every_frames", s->perception_search_every_frames, 1, 100000);
+  s->perception_path_memory = in.boolean("perception.path_memory", s->perception_path_memory);
+}
+
+void read_odometry(YamlReader& in, OdometryNoise* o) {
+  o->scale_error = in.number("odometry.scale_error", o->scale_error, -0.5, 0.5);
+  o->yaw_drift_rad_per_m =
+      in.number("odometry.yaw_drift_rad_per_m", o->yaw_drift_rad_per_m, -1.0, 1.0);
+  o->position_noise_m_per_sqrt_m =
+      in.number("odometry.position_noise_m_per_sqrt_m", o->position_noise_m_per_sqrt_m, 0.0, 0.1);
+  o->yaw_noise_rad_per_sqrt_m =
+      in.number("odometry.yaw_noise_rad_per_sqrt_m", o->yaw_noise_rad_per_sqrt_m, 0.0, 0.5);
 }
 
 // The camera file (which must hold a mount), the mount the camera really has if it differs,
@@ -470,6 +481,7 @@ Scenario load_scenario(const ScenarioText& source,
   read_image_effects(in, &s.effects);
   read_frame_faults(in, &s);
   read_perception(in, &s);
+  read_odometry(in, &s.odometry);
   read_camera_and_tags(in, source, &s);
   read_vehicle(in, &s);
   read_controller(in, &s.controller);

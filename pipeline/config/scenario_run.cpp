@@ -21,7 +21,7 @@ std::unique_ptr<Perceiver> make_perceiver(const Scenario& s) {
   if (s.controller.input == ControllerInput::kPose)
     return std::make_unique<LocalisationPerceiver>(PathTruth(s.path, s.start_s_m));
   return std::make_unique<ImagePerceiver>(perception::camera_model_of(s.camera, s.camera_name),
-                                          perception_options(s));
+                                          perception_options(s), s.perception_path_memory);
 }
 
 ThreadedSchedule threaded_schedule(const Scenario& s) {
@@ -42,7 +42,8 @@ RunResult run_scenario(const Scenario& s, const Progress& progress, const FrameS
   const double frame_period_s = camera_period_s(s);
   SimulatedVehicle vehicle(make_plant(s), start_twist(s));
   RenderedSource source(pose_input ? nullptr : make_renderer(s), vehicle,
-                        PathTruth(s.path, s.start_s_m), frame_period_s, s.duration_s);
+                        PathTruth(s.path, s.start_s_m), WheelOdometry(s.odometry, s.seed),
+                        frame_period_s, s.duration_s);
   const std::unique_ptr<Perceiver> perceiver = make_perceiver(s);
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, s.loop.queue_policy);
   CameraStage::Options camera_options;

@@ -212,7 +212,7 @@ TEST_F(MutationFuzz, FrameFiles) {
         pipeline::DatasetSource source(std::move(d), /*pass_bad_frames=*/false);
         perception::LineEstimator::Options options;
         options.tape.width_m = 0.025;
-        pipeline::ImagePerceiver perceiver(camera, options);
+        pipeline::ImagePerceiver perceiver(camera, options, /*path_memory=*/false);
         (void)perceiver.measure(*source.next(), nullptr);
       } catch (const InputError&) {
         ++rejected;

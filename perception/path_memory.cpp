@@ -1,0 +1,207 @@
+#include "perception/path_memory.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "perception/joined_arcs_fit.h"
+
+namespace agv::perception {
+namespace {
+
+// The curve through point p0 with direction heading0 and curvature k, as the model of the vehicle
+// origin's foot point on it (CurveModel's parametrisation).
+CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, double k) {
+  const Eigen::Vector2d t0(std::cos(heading0), std::sin(heading0));
+  const Eigen::Vector2d n0(-t0.y(), t0.x());
+  CurveModel m;
+  m.curvature_1_m = k;
+  // Signed distance of the origin from the circle through p0 (CurveModel's formula with F = p0).
+  const Eigen::Vector2d q = -p0;
+  const double u = q.dot(n0), r2 = q.squaredNorm();
+  m.e_d_m = (2.0 * u - k * r2) / (1.0 + std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2)));
+  if (std::abs(k) < 1e-9) {
+    m.heading_rad = heading0;
+    return m;
+  }
+  // The tangent at the origin's foot point: the radius through the origin turned by 90 deg
+  // towards the travel direction.
+  const Eigen::Vector2d centre = p0 + n0 / k;
+  Eigen::Vector2d radial = -centre;
+  if (radial.norm() < 1e-12) radial = p0 - centre;  // the origin at the centre: any foot
+  radial.normalize();
+  const Eigen::Vector2d tangent =
+      k > 0.0 ? Eigen::Vector2d(-radial.y(), radial.x()) : Eigen::Vector2d(radial.y(), -radial.x());
+  m.heading_rad = std::atan2(tangent.y(), tangent.x());
+  return m;
+}
+
+Eigen::Vector2d rotated(const Eigen::Vector2d& p, double angle_rad) {
+  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
+  return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
+}
+
+}  // namespace
+
+void PathMemory::reset() {
+  points_.clear();
+  correction_ = Pose2{};
+  last_odometry_.reset();
+}
+
+std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
+  const Pose2 to_vehicle = vehicle_.inverse();
+  std::vector<Eigen::Vector2d> out;
+  for (const Point& point : points_) out.push_back(to_vehicle.transform(point.p));
+  return out;
+}
+
+void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
+                             std::vector<Eigen::Vector2d>* in_vehicle) {
+  // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
+  // from the line through the nearest evidence points (the evidence itself, not a curve fitted
+  // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
+  // shift y). The shift along a straight tape is not observable: a small ridge keeps it at 0.
+  if (evidence.size() < 3) return;
+  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (const Eigen::Vector2d& p : *in_vehicle) {
+    size_t nearest = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < evidence.size(); ++j) {
+      const double d2 = (evidence[j] - p).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        nearest = j;
+      }
+    }
+    if (best > options_.neighbourhood_m * options_.neighbourhood_m) continue;
+    // The local direction of the evidence: its points within the neighbourhood of the nearest.
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    int near = 0;
+    for (const Eigen::Vector2d& e : evidence) {
+      if ((e - evidence[nearest]).squaredNorm() >
+          options_.neighbourhood_m * options_.neighbourhood_m)
+        continue;
+      mean += e;
+      scatter += e * e.transpose();
+      ++near;
+    }
+    if (near < 3) continue;
+    mean /= near;
+    scatter = scatter / near - mean * mean.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
+    const Eigen::Vector2d normal = eigen.eigenvectors().col(0);  // least spread: across the tape
+    const double d = normal.dot(p - mean);
+    if (std::abs(d) > options_.gate_m) continue;
+    const Eigen::Vector3d j(normal.dot(Eigen::Vector2d(-p.y(), p.x())), normal.x(), normal.y());
+    jtj += j * j.transpose();
+    jtd += j * d;
+    ++count;
+  }
+  if (count < options_.min_overlap_points) return;
+  // Most likely correction given the points (each good to point_sigma_m) and what the odometry
+  // can have got wrong over the distance driven since the last frame: along a straight tape the
+  // points say nothing of the shift along it, and the prior keeps it where the odometry put it.
+  const double sigma_t = options_.prior_shift_m + options_.prior_shift_per_m * travelled_m;
+  const double sigma_r = options_.prior_turn_rad + options_.prior_turn_rad_per_m * travelled_m;
+  const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
+  jtj *= point_weight;
+  jtd *= point_weight;
+  jtj.diagonal() += Eigen::Vector3d(1.0 / (sigma_r * sigma_r), 1.0 / (sigma_t * sigma_t),
+                                    1.0 / (sigma_t * sigma_t));
+  const Eigen::Vector3d delta = jtj.ldlt().solve(-jtd);
+  if (std::abs(delta[0]) > options_.max_correction_rad ||
+      delta.tail<2>().norm() > options_.max_correction_m) {
+    points_.clear();  // the remembered tape is not this tape (or the odometry jumped)
+    in_vehicle->clear();
+    return;
+  }
+  const Pose2 move{delta[1], delta[2], delta[0]};
+  for (Eigen::Vector2d& p : *in_vehicle) p = move.transform(p);
+  vehicle_ = vehicle_.compose(move.inverse());
+}
+
+std::optional<LineMeasurement> PathMemory::at_origin(
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
+  // A frame along the tape near the origin: the line in view's heading there, refined once by
+  // the fit's own slope so that the slopes the fit sees stay small.
+  double frame_rad = -in_view.e_theta_rad;
+  std::optional<JoinedArcs> fit;
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<Eigen::Vector2d> local;
+    double lo = 0.0, hi = 0.0;
+    for (const Eigen::Vector2d& p : in_vehicle) {
+      const Eigen::Vector2d q = rotated(p, -frame_rad);
+      if (std::abs(q.x()) > options_.window_m) continue;
+      local.push_back(q);
+      lo = std::min(lo, q.x());
+      hi = std::max(hi, q.x());
+    }
+    if (static_cast<int>(local.size()) < options_.min_points || lo > -options_.min_cover_m ||
+        hi < options_.min_cover_m)
+      return std::nullopt;
+    fit = fit_joined_arcs(local);
+    if (!fit) return std::nullopt;
+    if (std::abs(fit->slope) < 0.02) break;
+    frame_rad += std::atan(fit->slope);
+  }
+  const double slope_angle = std::atan(fit->slope);
+  const double k = fit->curvature_1_m / std::pow(1.0 + fit->slope * fit->slope, 1.5);
+  const CurveModel model =
+      curve_through_point(rotated({0.0, fit->offset_m}, frame_rad), frame_rad + slope_angle, k);
+  LineMeasurement m = in_view;
+  m.e_d_m = model.e_d_m;
+  m.e_theta_rad = wrap_angle_rad(-model.heading_rad);
+  m.curvature_1_m = model.curvature_1_m;
+  m.extrapolated = false;
+  return m;
+}
+
+LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
+                                   const std::optional<Pose2>& odometry) {
+  LineMeasurement carried_back = in_view;
+  carried_back.extrapolated = in_view.line_found;
+  if (!odometry) {
+    reset();
+    return carried_back;
+  }
+  const double travelled_m =
+      last_odometry_ ? last_odometry_->inverse().compose(*odometry).translation().norm() : 0.0;
+  if (travelled_m > options_.max_jump_m) reset();
+  last_odometry_ = odometry;
+  ++frame_;
+  vehicle_ = correction_.compose(*odometry);
+  if (!in_view.line_found || detection.followed < 0 ||
+      detection.followed >= static_cast<int>(detection.lines.size()))
+    return in_view;
+
+  std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
+  const DetectedLine& line = detection.lines[detection.followed];
+  std::vector<Eigen::Vector2d> evidence;
+  for (int index : line.chords) evidence.push_back(detection.chords[index].centre());
+  register_to(evidence, travelled_m, &in_vehicle);
+  correction_ = vehicle_.compose(odometry->inverse());
+
+  // Keep what is not too far behind and not too old; add this frame's evidence.
+  std::vector<Point> kept;
+  for (size_t i = 0; i < points_.size() && i < in_vehicle.size(); ++i) {
+    if (in_vehicle[i].x() < -options_.keep_behind_m) continue;
+    if (points_[i].frame <= frame_ - options_.keep_frames) continue;
+    kept.push_back(points_[i]);
+  }
+  points_ = std::move(kept);
+  in_vehicle.clear();
+  for (const Point& point : points_) in_vehicle.push_back(vehicle_.inverse().transform(point.p));
+  for (const Eigen::Vector2d& centre : evidence) {
+    points_.push_back({vehicle_.transform(centre), frame_});
+    in_vehicle.push_back(centre);
+  }
+  if (const std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle)) return *m;
+  return carried_back;
+}
+
+}  // namespace agv::perception

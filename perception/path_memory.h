@@ -1,0 +1,77 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "common/line_measurement.h"
+#include "common/pose2.h"
+#include "perception/curve_fit.h"
+#include "perception/line_estimator.h"
+
+namespace agv::perception {
+
+struct PathMemoryOptions {
+  double keep_behind_m = 0.15;  // tape remembered behind the vehicle origin
+  int keep_frames = 40;         // evidence of at most this many frames is kept
+  double window_m = 0.05;       // the tape this far either side of the origin gives the errors
+  double min_cover_m = 0.015;   // ... and must reach at least this far on both sides
+  int min_points = 12;
+  double gate_m = 0.003;           // remembered points this near the tape in view are the same tape
+  double neighbourhood_m = 0.008;  // the tape's local direction from its evidence this near
+  int min_overlap_points = 20;     // registration needs this many of them
+  double max_jump_m = 0.3;         // odometry that moves further between frames restarts the memory
+  // Registration: how well a centre-line point is known, and how far the odometry may have gone
+  // wrong between two frames (a constant and a part per metre driven).
+  double point_sigma_m = 0.0001;
+  double prior_shift_m = 0.0002, prior_shift_per_m = 0.02;
+  double prior_turn_rad = 0.0002, prior_turn_rad_per_m = 0.01;
+  double max_correction_m = 0.01;     // a registration that needs more than this (or the angle)
+  double max_correction_rad = 0.035;  //   means the memory is not this tape: it restarts
+};
+
+// The tape the camera has seen, remembered in the frame of the vehicle's odometry, so that e_d
+// and e_theta at the vehicle origin (DESIGN.md) come from the tape under the vehicle, not from
+// the line in view carried back to it. Each frame: the remembered centre-line points are moved
+// into the vehicle frame with the odometry's motion; where they overlap the line in view they
+// are registered to it (a small rotation and shift: the odometry's drift), the frame's evidence
+// is added, and what lies far behind is dropped; then the points around the origin are fitted
+// with one arc or two joined arcs (fit_joined_arcs: a joint under the vehicle is not smoothed
+// over). Until the remembered tape reaches both sides of the origin (the vehicle has not yet
+// driven onto tape it saw), the measurement is the line in view carried back, flagged
+// `extrapolated`.
+class PathMemory {
+ public:
+  explicit PathMemory(const PathMemoryOptions& options = {}) : options_(options) {}
+
+  // One frame: `in_view` is the measurement of the line in view (carried back to the origin),
+  // `detection` what perception saw (its followed line's chords are the evidence), `odometry`
+  // the vehicle's odometry pose (any origin) when the frame was taken. A frame without a line
+  // adds nothing and is returned as it is; without odometry the memory restarts.
+  LineMeasurement update(const LineMeasurement& in_view, const LineDetection& detection,
+                         const std::optional<Pose2>& odometry);
+  void reset();
+
+  // The remembered centre-line points in the vehicle frame of the last update (for tests and
+  // pictures).
+  std::vector<Eigen::Vector2d> points_in_vehicle_frame() const;
+
+ private:
+  struct Point {
+    Eigen::Vector2d p;  // in the memory frame
+    int frame = 0;      // which frame saw it
+  };
+  void register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
+                   std::vector<Eigen::Vector2d>* in_vehicle);
+  std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
+                                           const std::vector<Eigen::Vector2d>& in_vehicle) const;
+
+  PathMemoryOptions options_;
+  std::vector<Point> points_;
+  Pose2 correction_;  // memory frame from odometry frame
+  std::optional<Pose2> last_odometry_;
+  Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
+  int frame_ = 0;
+};
+
+}  // namespace agv::perception
