@@ -21,6 +21,10 @@ struct LineMeasurement {
   // The errors come from the line in view carried back to the vehicle (no remembered tape under
   // it yet), not from the tape under the vehicle.
   bool extrapolated = false;
+  // The tape ahead (preview): the curvature changes to curvature_ahead_1_m this far ahead of the
+  // foot point, along the tape; infinite when no change is seen.
+  double curvature_change_m = std::numeric_limits<double>::infinity();
+  double curvature_ahead_1_m = 0.0;
   // Pose input only (controller.input: pose): arc length from the foot point to the end of
   // the path, negative past it. A camera cannot see it: infinite.
   double path_remaining_m = std::numeric_limits<double>::infinity();

@@ -35,9 +35,11 @@ void CommandHistory::record(double sent_at_s, const BodyTwist& command) {
   while (entries_.size() > 2 && entries_[1].sent_at_s < sent_at_s - keep_s_) entries_.pop_front();
 }
 
-TrackingError CommandHistory::predict(const TrackingError& at_from, double curvature_1_m,
-                                      double from_s, double to_s) const {
+TrackingError CommandHistory::predict(const TrackingError& at_from,
+                                      const CurvatureProfile& curvature, double from_s,
+                                      double to_s) const {
   TrackingError e = at_from;
+  double travelled_m = 0.0;  // along the path, for the curvature's change
   if (entries_.empty() || to_s <= from_s) return e;
   double t = from_s;
   while (t < to_s) {
@@ -49,7 +51,15 @@ TrackingError CommandHistory::predict(const TrackingError& at_from, double curva
     const double piece_end_s = (it == entries_.end()) ? to_s : std::min(to_s, it->sent_at_s);
     const double piece_s = piece_end_s - t;
     const int steps = std::max(1, static_cast<int>(std::ceil(piece_s / kMaxStep_s)));
-    for (int i = 0; i < steps; ++i) e = rk4(e, acting.command, curvature_1_m, piece_s / steps);
+    for (int i = 0; i < steps; ++i) {
+      const double h = piece_s / steps;
+      const double k =
+          travelled_m < curvature.change_m ? curvature.curvature_1_m : curvature.ahead_1_m;
+      const BodyTwist& u = acting.command;
+      const double c = std::cos(e.e_theta_rad), sn = std::sin(e.e_theta_rad);
+      travelled_m += h * (u.vx_m_s * c - u.vy_m_s * sn) / (1.0 - k * e.e_d_m);
+      e = rk4(e, u, k, h);
+    }
     t = piece_end_s;
   }
   return e;

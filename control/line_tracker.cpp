@@ -1,5 +1,6 @@
 #include "control/line_tracker.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace agv::control {
@@ -12,6 +13,16 @@ bool differs(const BodyTwist& a, const BodyTwist& b) {
 }
 
 }  // namespace
+
+double LineTracker::coming_curvature_1_m(const LineMeasurement& m, double now_s) const {
+  if (!std::isfinite(m.curvature_change_m)) return m.curvature_1_m;
+  // Where the change is now (the vehicle has driven on at about path speed since the frame),
+  // and how much of the coming period's travel lies beyond it.
+  const double period_m = std::max(1e-9, options_.path_speed_m_s * options_.ts_s);
+  const double ahead_m = m.curvature_change_m - options_.path_speed_m_s * (now_s - m.stamp_s);
+  const double beyond = std::clamp((period_m - ahead_m) / period_m, 0.0, 1.0);
+  return (1.0 - beyond) * m.curvature_1_m + beyond * m.curvature_ahead_1_m;
+}
 
 LineTracker::LineTracker(std::unique_ptr<PathController> controller, const VehicleLimits& limits,
                          const Options& options, const BodyTwist& initial_command)
@@ -47,12 +58,15 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
     TrackingEstimate estimate{last_good_->e_theta_rad, last_good_->e_d_m, last_good_->curvature_1_m,
                               now_s - last_good_->stamp_s, last_good_->path_remaining_m};
     if (options_.latency_compensation) {
-      const TrackingError predicted =
-          history_.predict({estimate.e_theta_rad, estimate.e_d_m}, estimate.curvature_1_m,
-                           last_good_->stamp_s, now_s);
+      const TrackingError predicted = history_.predict(
+          {estimate.e_theta_rad, estimate.e_d_m},
+          CurvatureProfile{last_good_->curvature_1_m, last_good_->curvature_change_m,
+                           last_good_->curvature_ahead_1_m},
+          last_good_->stamp_s, now_s);
       estimate.e_theta_rad = predicted.e_theta_rad;
       estimate.e_d_m = predicted.e_d_m;
     }
+    estimate.curvature_1_m = coming_curvature_1_m(*last_good_, now_s);
     const ControlContext context{options_.ts_s, options_.path_speed_m_s, previous_command_,
                                  limits_};
     const ControllerOutput controlled = controller_->update(estimate, context);

@@ -35,7 +35,9 @@ struct TrackerOutput {
 // same holds when measurements stop arriving at all (a stalled camera or perception): after
 // `line_lost_hold_s` without any measurement the vehicle stops. With
 // latency compensation on, the error is predicted from the frame's time to now with the
-// commands already sent (as Nav2 MPPI's model delay and Autoware MPC's input delay do).
+// commands already sent (as Nav2 MPPI's model delay and Autoware MPC's input delay do). Where
+// the measurement previews a change of the path's curvature ahead, the curvature fed forward
+// changes in the period the vehicle reaches it.
 class LineTracker {
  public:
   struct Options {
@@ -59,6 +61,11 @@ class LineTracker {
   const PathController& controller() const { return *controller_; }
 
  private:
+  // The path's mean curvature over the coming period (what the controller feeds forward): the
+  // measured curvature, or, where the measurement previews a change that the vehicle reaches
+  // within the period, the two weighted by the travel on each side of it.
+  double coming_curvature_1_m(const LineMeasurement& m, double now_s) const;
+
   std::unique_ptr<PathController> controller_;
   VehicleLimits limits_;
   Options options_;

@@ -161,6 +161,62 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   return m;
 }
 
+void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
+                             LineMeasurement* m) const {
+  // Walk along the tape from the foot point: at each step, the points within the window in a
+  // frame along the tape there give the local curvature (and correct the walk's position and
+  // direction); the first change that holds for two windows is where the curvature changes.
+  const CurveModel origin{m->e_d_m, -m->e_theta_rad, m->curvature_1_m};
+  Eigen::Vector2d at = origin.foot_point();
+  double heading = origin.heading_rad;
+  double curvature = origin.curvature_1_m;
+  // NaN: none yet (std::optional here trips GCC 12's maybe-uninitialized warning).
+  double first_change_s = std::numeric_limits<double>::quiet_NaN();
+  double first_break_s = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> ahead;
+  const double h = options_.preview_half_window_m;
+  for (double s = options_.preview_step_m;; s += options_.preview_step_m) {
+    // Advance along the arc of the current curvature.
+    const double turn = curvature * options_.preview_step_m;
+    const double chord = std::abs(curvature) > 1e-9 ? 2.0 * std::sin(0.5 * turn) / curvature
+                                                    : options_.preview_step_m;
+    at += chord * Eigen::Vector2d(std::cos(heading + 0.5 * turn), std::sin(heading + 0.5 * turn));
+    heading += turn;
+    std::vector<Eigen::Vector2d> local;
+    double hi = -1.0;
+    for (const Eigen::Vector2d& p : in_vehicle) {
+      const Eigen::Vector2d q = rotated(p - at, -heading);
+      if (std::abs(q.x()) > h || std::abs(q.y()) > 0.02) continue;
+      local.push_back(q);
+      hi = std::max(hi, q.x());
+    }
+    if (hi < 0.5 * h) break;  // the evidence ends here
+    const std::optional<JoinedArcs> fit = fit_joined_arcs(local);
+    if (!fit) break;
+    at += rotated({0.0, fit->offset_m}, heading);
+    heading += std::atan(fit->slope);
+    curvature = fit->curvature_1_m;
+    const bool changed = std::abs(curvature - origin.curvature_1_m) > options_.preview_change_1_m;
+    if (!changed) {
+      first_change_s = first_break_s = std::numeric_limits<double>::quiet_NaN();
+      ahead.clear();
+      continue;
+    }
+    if (std::isnan(first_change_s)) {
+      first_change_s = s;
+      if (fit->break_x_m) first_break_s = s + *fit->break_x_m;
+    }
+    ahead.push_back(curvature);
+    if (ahead.size() >= 2) break;
+  }
+  if (ahead.size() < 2) return;
+  // Where it changes: the breakpoint the window saw, else half a step before the window.
+  m->curvature_change_m = !std::isnan(first_break_s)
+                              ? std::max(0.0, first_break_s)
+                              : std::max(0.0, first_change_s - 0.5 * options_.preview_step_m);
+  m->curvature_ahead_1_m = ahead.back();
+}
+
 LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
                                    const std::optional<Pose2>& odometry) {
   LineMeasurement carried_back = in_view;
@@ -200,7 +256,10 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
     points_.push_back({vehicle_.transform(centre), frame_});
     in_vehicle.push_back(centre);
   }
-  if (const std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle)) return *m;
+  if (std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle)) {
+    add_preview(in_vehicle, &*m);
+    return *m;
+  }
   return carried_back;
 }
 

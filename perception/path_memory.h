@@ -28,6 +28,11 @@ struct PathMemoryOptions {
   double prior_turn_rad = 0.0002, prior_turn_rad_per_m = 0.01;
   double max_correction_m = 0.01;     // a registration that needs more than this (or the angle)
   double max_correction_rad = 0.035;  //   means the memory is not this tape: it restarts
+  // Preview: the tape ahead is fitted in windows of this half-length every step; a curvature
+  // this far from the one at the origin, in two windows running, is a change.
+  double preview_half_window_m = 0.03;
+  double preview_step_m = 0.02;
+  double preview_change_1_m = 0.15;
 };
 
 // The tape the camera has seen, remembered in the frame of the vehicle's odometry, so that e_d
@@ -65,6 +70,9 @@ class PathMemory {
                    std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
+  // Where the curvature of the tape ahead of the origin changes, and to what (m's preview
+  // fields), from local fits along the remembered and seen tape.
+  void add_preview(const std::vector<Eigen::Vector2d>& in_vehicle, LineMeasurement* m) const;
 
   PathMemoryOptions options_;
   std::vector<Point> points_;

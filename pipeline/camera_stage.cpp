@@ -47,14 +47,13 @@ bool CameraStage::step() {
     apply_frame_faults(options_.faults, frame->t_s, frame->index, &frame->image);
   }
   perception::LineDetection detection;
-  perception::LineDetection* details = options_.sink_wants_details ? &detection : nullptr;
-  record.measurement = perceiver_.measure(*frame, details);
+  record.measurement = perceiver_.measure(*frame, &detection);
   record.perceive_s = seconds_between(t1, Clock::now());
-  if (details && !record.measurement.line_found) record.no_line_reason = details->rejected_because;
+  if (!record.measurement.line_found) record.no_line_reason = detection.rejected_because;
   queue_.push({record.measurement, record.index, frame->t_s + options_.latency_s},
               options_.push_timeout);
   records_.push_back(record);
-  if (sink_) sink_(records_.back(), *frame, frame->image.empty() ? nullptr : details);
+  if (sink_) sink_(records_.back(), *frame, frame->image.empty() ? nullptr : &detection);
   return true;
 }
 

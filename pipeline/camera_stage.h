@@ -12,9 +12,8 @@
 
 namespace agv::pipeline {
 
-// Receives every frame the camera stage took, with what became of it and, when asked for,
-// what perception saw in it (null for a bad frame or a source of poses): a dataset recorder, an
-// annotated video.
+// Receives every frame the camera stage took, with what became of it and what perception saw in
+// it (null for a bad frame or a source of poses): a dataset recorder, an annotated video.
 using FrameSink = std::function<void(const FrameRecord& record, const SourceFrame& frame,
                                      const perception::LineDetection* detection)>;
 
@@ -28,7 +27,6 @@ class CameraStage {
     double latency_s = 0.0;          // transport latency: a measurement is usable this long
                                      //   after its frame was taken
     std::chrono::nanoseconds push_timeout{0};  // how long a push may wait for room (kBlock)
-    bool sink_wants_details = false;           // pass perception's details to the sink
   };
 
   CameraStage(FrameSource& source, Perceiver& perceiver, BoundedQueue<StampedMeasurement>& queue,

@@ -36,7 +36,6 @@ RunResult run_on_source(FrameSource& source, const perception::CameraModel& came
   ImagePerceiver perceiver(camera, options.perception, s.perception_path_memory);
   BoundedQueue<StampedMeasurement> queue(s.loop.queue_capacity, QueuePolicy::kDropOldest);
   CameraStage::Options camera_options;
-  camera_options.sink_wants_details = static_cast<bool>(options.sink);
   CameraStage camera_stage(source, perceiver, queue, camera_options, options.sink);
   ControlStage control(make_tracker(s, s.controller.ts_s), queue,
                        control_stage_options(s, s.controller.ts_s));

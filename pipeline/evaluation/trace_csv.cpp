@@ -1,9 +1,20 @@
 #include "pipeline/evaluation/trace_csv.h"
 
+#include <cmath>
 #include <iomanip>
 #include <variant>
 
 namespace agv::pipeline {
+
+namespace {
+
+std::string without_commas(std::string text) {
+  for (char& c : text)
+    if (c == ',' || c == '\n') c = ';';
+  return text;
+}
+
+}  // namespace
 
 namespace {
 
@@ -62,7 +73,8 @@ void write_trace_csv(std::ostream& out, const RunResult& run) {
 
 void write_frames_csv(std::ostream& out, const RunResult& run) {
   out << "index,t_s,true_e_theta_rad,true_e_d_m,line_found,e_theta_rad,e_d_m,confidence,points_"
-         "used,tape_width_m\n";
+         "used,tape_width_m,curvature_1_m,extrapolated,curvature_change_m,curvature_ahead_1_m,"
+         "no_line_reason\n";
   out << std::setprecision(9);
   for (const FrameRecord& f : run.frames) {
     const LineMeasurement& m = f.measurement;
@@ -75,22 +87,17 @@ void write_frames_csv(std::ostream& out, const RunResult& run) {
     out << (m.line_found ? 1 : 0) << ',';
     if (m.line_found) {
       out << m.e_theta_rad << ',' << m.e_d_m << ',' << m.confidence << ',' << m.points_used << ','
-          << m.tape_width_m << '\n';
+          << m.tape_width_m << ',' << m.curvature_1_m << ',' << (m.extrapolated ? 1 : 0) << ',';
+      if (std::isfinite(m.curvature_change_m)) {
+        out << m.curvature_change_m << ',' << m.curvature_ahead_1_m << ",\n";
+      } else {
+        out << ",,\n";
+      }
     } else {
-      out << ",,0,0,\n";
+      out << ",,0,0,,,0,,," << without_commas(f.bad ? f.problem : f.no_line_reason) << '\n';
     }
   }
 }
-
-namespace {
-
-std::string without_commas(std::string text) {
-  for (char& c : text)
-    if (c == ',' || c == '\n') c = ';';
-  return text;
-}
-
-}  // namespace
 
 void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& frames,
                             bool with_truth) {

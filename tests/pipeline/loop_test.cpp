@@ -80,7 +80,7 @@ struct Stages {
   Stages(FrameSource& source, QueuePolicy policy, std::size_t capacity, double latency_s,
          double hold_s = 0.3)
       : queue(capacity, policy),
-        camera(source, perceiver, queue, {{}, latency_s, std::chrono::nanoseconds(0), false}),
+        camera(source, perceiver, queue, {{}, latency_s, std::chrono::nanoseconds(0)}),
         control(tracker(hold_s), queue,
                 {control::MecanumDrive{}, control::VehicleLimits{}, kTs, {kSpeed_m_s, 0.0, 0.0}}) {}
   static control::LineTracker tracker(double hold_s) {
