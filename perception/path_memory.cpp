@@ -46,6 +46,7 @@ Eigen::Vector2d rotated(const Eigen::Vector2d& p, double angle_rad) {
 
 void PathMemory::reset() {
   points_.clear();
+  tape_width_m_ = 0.0;
   correction_ = Pose2{};
   last_odometry_.reset();
 }
@@ -58,7 +59,7 @@ std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
 }
 
 void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
-                             std::vector<Eigen::Vector2d>* in_vehicle) {
+                             bool from_frames, std::vector<Eigen::Vector2d>* in_vehicle) {
   // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
   // from the line through the nearest evidence points (the evidence itself, not a curve fitted
   // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
@@ -106,8 +107,10 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, doubl
   // Most likely correction given the points (each good to point_sigma_m) and what the odometry
   // can have got wrong over the distance driven since the last frame: along a straight tape the
   // points say nothing of the shift along it, and the prior keeps it where the odometry put it.
-  const double sigma_t = options_.prior_shift_m + options_.prior_shift_per_m * travelled_m;
-  const double sigma_r = options_.prior_turn_rad + options_.prior_turn_rad_per_m * travelled_m;
+  const double sigma_t = (from_frames ? options_.frames_prior_shift_m : options_.prior_shift_m) +
+                         options_.prior_shift_per_m * travelled_m;
+  const double sigma_r = (from_frames ? options_.frames_prior_turn_rad : options_.prior_turn_rad) +
+                         options_.prior_turn_rad_per_m * travelled_m;
   const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
   jtj *= point_weight;
   jtd *= point_weight;
@@ -133,17 +136,22 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   std::optional<JoinedArcs> fit;
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<Eigen::Vector2d> local;
-    double lo = 0.0, hi = 0.0;
+    std::vector<double> along;
     for (const Eigen::Vector2d& p : in_vehicle) {
       const Eigen::Vector2d q = rotated(p, -frame_rad);
       if (std::abs(q.x()) > options_.window_m) continue;
       local.push_back(q);
-      lo = std::min(lo, q.x());
-      hi = std::max(hi, q.x());
+      along.push_back(q.x());
     }
-    if (static_cast<int>(local.size()) < options_.min_points || lo > -options_.min_cover_m ||
-        hi < options_.min_cover_m)
-      return std::nullopt;
+    // Enough tape on both sides: the side_points-th point from either end reaches min_cover_m
+    // (a stray point or two far out is not tape under the vehicle).
+    const int n = static_cast<int>(along.size()), k = options_.side_points;
+    if (n < std::max(options_.min_points, 2 * k + 2)) return std::nullopt;
+    std::nth_element(along.begin(), along.begin() + k, along.end());
+    const double lo = along[k];
+    std::nth_element(along.begin(), along.begin() + (n - 1 - k), along.end());
+    const double hi = along[n - 1 - k];
+    if (lo > -options_.min_cover_m || hi < options_.min_cover_m) return std::nullopt;
     fit = fit_joined_arcs(local);
     if (!fit) return std::nullopt;
     if (std::abs(fit->slope) < 0.02) break;
@@ -217,8 +225,47 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   m->curvature_ahead_1_m = ahead.back();
 }
 
+std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detection) {
+  // The centres of the chords with both edges on the followed tape, about as wide as the tape
+  // has been (where another tape leaves or meets it, a chord from this tape's edge to the
+  // other's has its centre on neither, and the line's own median width may be the merged one),
+  // and not within a tape width of another line in view.
+  const DetectedLine& line = detection.lines[detection.followed];
+  if (!(tape_width_m_ > 0.0)) tape_width_m_ = line.width_m;
+  const std::vector<int>& chords = static_cast<int>(line.clean_chords.size()) >= options_.min_points
+                                       ? line.clean_chords
+                                       : line.chords;
+  std::vector<Eigen::Vector2d> evidence;
+  std::vector<double> widths;
+  for (int index : chords) {
+    const Chord& chord = detection.chords[index];
+    const Eigen::Vector2d centre = chord.centre();
+    const Eigen::Vector2d ahead = line.model.tangent_at(line.model.arc_position(centre));
+    const double width_m = std::abs(Eigen::Vector2d(-ahead.y(), ahead.x()).dot(chord.a - chord.b));
+    if (tape_width_m_ > 0.0 &&
+        std::abs(width_m - tape_width_m_) > options_.chord_width_tolerance * tape_width_m_)
+      continue;
+    bool near_other = false;
+    for (size_t other = 0; other < detection.lines.size() && !near_other; ++other) {
+      if (static_cast<int>(other) == detection.followed) continue;
+      const double d = detection.lines[other].model.prepared().signed_distance(centre);
+      near_other = std::abs(d) < std::max(tape_width_m_, line.width_m);
+    }
+    if (near_other) continue;
+    evidence.push_back(centre);
+    widths.push_back(width_m);
+  }
+  // The tape's width follows what the accepted evidence shows (slowly: a worn stretch or a
+  // merged chord does not move it).
+  if (widths.size() >= 3) {
+    std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
+    tape_width_m_ += 0.2 * (widths[widths.size() / 2] - tape_width_m_);
+  }
+  return evidence;
+}
+
 LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
-                                   const std::optional<Pose2>& odometry) {
+                                   const std::optional<Pose2>& odometry, bool from_frames) {
   LineMeasurement carried_back = in_view;
   carried_back.extrapolated = in_view.line_found;
   if (!odometry) {
@@ -236,10 +283,8 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
     return in_view;
 
   std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
-  const DetectedLine& line = detection.lines[detection.followed];
-  std::vector<Eigen::Vector2d> evidence;
-  for (int index : line.chords) evidence.push_back(detection.chords[index].centre());
-  register_to(evidence, travelled_m, &in_vehicle);
+  const std::vector<Eigen::Vector2d> evidence = evidence_of(detection);
+  register_to(evidence, travelled_m, from_frames, &in_vehicle);
   correction_ = vehicle_.compose(odometry->inverse());
 
   // Keep what is not too far behind and not too old; add this frame's evidence.

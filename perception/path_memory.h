@@ -15,8 +15,10 @@ struct PathMemoryOptions {
   double keep_behind_m = 0.15;  // tape remembered behind the vehicle origin
   int keep_frames = 40;         // evidence of at most this many frames is kept
   double window_m = 0.05;       // the tape this far either side of the origin gives the errors
-  double min_cover_m = 0.015;   // ... and must reach at least this far on both sides
+  double min_cover_m = 0.025;   // ... and must reach at least this far on both sides
   int min_points = 12;
+  int side_points = 5;                  // points that must lie beyond min_cover_m on each side
+  double chord_width_tolerance = 0.06;  // evidence: chords this near the tape's median width
   double gate_m = 0.003;           // remembered points this near the tape in view are the same tape
   double neighbourhood_m = 0.008;  // the tape's local direction from its evidence this near
   int min_overlap_points = 20;     // registration needs this many of them
@@ -26,6 +28,8 @@ struct PathMemoryOptions {
   double point_sigma_m = 0.0001;
   double prior_shift_m = 0.0002, prior_shift_per_m = 0.02;
   double prior_turn_rad = 0.0002, prior_turn_rad_per_m = 0.01;
+  // The same for motion read from the frames (FloorOdometry), which turns less surely.
+  double frames_prior_shift_m = 0.001, frames_prior_turn_rad = 0.003;
   double max_correction_m = 0.01;     // a registration that needs more than this (or the angle)
   double max_correction_rad = 0.035;  //   means the memory is not this tape: it restarts
   // Preview: the tape ahead is fitted in windows of this half-length every step; a curvature
@@ -51,10 +55,11 @@ class PathMemory {
 
   // One frame: `in_view` is the measurement of the line in view (carried back to the origin),
   // `detection` what perception saw (its followed line's chords are the evidence), `odometry`
-  // the vehicle's odometry pose (any origin) when the frame was taken. A frame without a line
-  // adds nothing and is returned as it is; without odometry the memory restarts.
+  // the vehicle's odometry pose (any origin) when the frame was taken, `from_frames` when that
+  // odometry was read from the frames rather than the wheels. A frame without a line adds
+  // nothing and is returned as it is; without odometry the memory restarts.
   LineMeasurement update(const LineMeasurement& in_view, const LineDetection& detection,
-                         const std::optional<Pose2>& odometry);
+                         const std::optional<Pose2>& odometry, bool from_frames = false);
   void reset();
 
   // The remembered centre-line points in the vehicle frame of the last update (for tests and
@@ -66,8 +71,9 @@ class PathMemory {
     Eigen::Vector2d p;  // in the memory frame
     int frame = 0;      // which frame saw it
   };
+  std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
   void register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
-                   std::vector<Eigen::Vector2d>* in_vehicle);
+                   bool from_frames, std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Where the curvature of the tape ahead of the origin changes, and to what (m's preview
@@ -80,6 +86,7 @@ class PathMemory {
   std::optional<Pose2> last_odometry_;
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
+  double tape_width_m_ = 0.0;  // the width of the evidence remembered (0: none yet)
 };
 
 }  // namespace agv::perception

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "common/line_measurement.h"
+#include "perception/floor_odometry.h"
 #include "perception/path_memory.h"
 #include "perception/tracking_line_estimator.h"
 #include "pipeline/frame_source.h"
@@ -21,33 +22,50 @@ class Perceiver {
   // The next frame does not follow the last one (a bad frame came between).
   virtual void reset() {}
   virtual perception::TrackingLineEstimator::Counts counts() const { return {}; }
+  // What moved the remembered tape with the vehicle: "wheel odometry", "none" (no path memory,
+  // or frames without odometry: every line carried back from the view), ...
+  virtual std::string odometry_source() const { return "none"; }
 };
 
 // Perception of the frame's image: the line estimator, tracking between full searches, and (with
 // a path memory) the errors at the vehicle read from the remembered tape under it, placed with
-// the frame's odometry.
+// the frame's wheel odometry or, for frames without, with the motion read from the frames
+// themselves (FloorOdometry; where the floor shows too little texture, the last motion again).
 class ImagePerceiver : public Perceiver {
  public:
   ImagePerceiver(const perception::CameraModel& camera,
                  const perception::LineEstimator::Options& options, bool path_memory)
       : estimator_(camera, options) {
-    if (path_memory) memory_.emplace();
+    if (!path_memory) return;
+    memory_.emplace();
+    floor_odometry_.emplace(camera);
   }
   LineMeasurement measure(const SourceFrame& frame, perception::LineDetection* details) override {
     if (!memory_) return estimator_.measure(frame.image, frame.t_s, details);
     perception::LineDetection local;
     perception::LineDetection& detection = details ? *details : local;
     const LineMeasurement in_view = estimator_.measure(frame.image, frame.t_s, &detection);
-    return memory_->update(in_view, detection, frame.odometry);
+    const std::optional<Pose2> odometry = odometry_of(frame);
+    return memory_->update(in_view, detection, odometry, !frame.odometry);
   }
   // A bad frame between: the line tracking starts again; the remembered tape stays (the
-  // odometry still places it).
-  void reset() override { estimator_.reset(); }
+  // odometry still places it), but motion read from the frames must start again.
+  void reset() override {
+    estimator_.reset();
+    if (floor_odometry_) floor_odometry_->reset();
+  }
   perception::TrackingLineEstimator::Counts counts() const override { return estimator_.counts(); }
+  std::string odometry_source() const override;
 
  private:
+  std::optional<Pose2> odometry_of(const SourceFrame& frame);
+
   perception::TrackingLineEstimator estimator_;
   std::optional<perception::PathMemory> memory_;
+  std::optional<perception::FloorOdometry> floor_odometry_;
+  Pose2 frame_odometry_;              // integrated from the frames' motion
+  std::optional<Pose2> last_motion_;  // for frames whose motion cannot be read
+  long wheel_frames_ = 0, floor_frames_ = 0, repeated_frames_ = 0;
 };
 
 // Localisation: the errors of the frame's true pose against the path (controller.input: pose).

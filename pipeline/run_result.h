@@ -76,7 +76,8 @@ struct RunResult {
   std::uint64_t measurements_superseded = 0;
   std::uint64_t frames_dropped = 0;  // frames the camera stage could not keep up with
   perception::TrackingLineEstimator::Counts perception_counts;  // tracked vs searched frames
-  StageTimes total_times;                                       // summed over the run, seconds
+  std::string odometry_source;  // what placed the remembered tape (Perceiver::odometry_source)
+  StageTimes total_times;       // summed over the run, seconds
   double wall_s = 0.0;
   double setup_wall_s = 0.0;          // of wall_s: building renderer, floor maps and estimator
   double max_tick_lateness_s = 0.0;   // threaded: how late the control thread ran at worst

@@ -122,6 +122,11 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
   j["has_ground_truth"] = setup.opened.has_truth;
   j["frames_tracked"] = result.perception_counts.tracked;
   j["frames_searched"] = result.perception_counts.searched;
+  j["odometry"] = result.odometry_source;
+  int extrapolated = 0;
+  for (const pipeline::FrameRecord& frame : result.frames)
+    extrapolated += frame.measurement.line_found && frame.measurement.extrapolated ? 1 : 0;
+  j["frames_extrapolated"] = extrapolated;
   j["perception_rms_e_d_m"] = rms_or_null(f.error_e_d_m);
   j["perception_rms_e_theta_rad"] = rms_or_null(f.error_e_theta_rad);
   j["commands"] = result.rows.size();
@@ -144,7 +149,7 @@ namespace {
 std::string plot_measurements(const pipeline::OutputFolder& folder,
                               const pipeline::RunResult& result, bool has_truth,
                               const std::string& title) {
-  // Columns of measurements.csv: 2 t_s, 3 line_found, 4 e_theta_rad, 5 e_d_m, 16/17 the truth.
+  // Columns of measurements.csv: 2 t_s, 3 line_found, 4 e_theta_rad, 5 e_d_m, 19/20 the truth.
   const std::string data = gnuplot_quote(folder.file("measurements.csv").string());
   bool any_line = false;
   for (const pipeline::FrameRecord& f : result.frames) any_line |= f.measurement.line_found;
@@ -166,11 +171,11 @@ std::string plot_measurements(const pipeline::OutputFolder& folder,
   script << "set ylabel 'lateral error e_{d} (mm)'\n"
          << "plot " << data << " using 2:($3>0 ? $5*1000 : NaN) every ::1 with " << measured;
   if (has_truth)
-    script << ", '' using 2:($17*1000) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
+    script << ", '' using 2:($20*1000) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
   script << "\nset ylabel 'heading error e_{θ} (deg)'\n"
          << "plot " << data << " using 2:($3>0 ? $4*180/pi : NaN) every ::1 with " << measured;
   if (has_truth)
-    script << ", '' using 2:($16*180/pi) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
+    script << ", '' using 2:($19*180/pi) every ::1 with lines lw 2 lc rgb '#1f77b4' title 'true'";
   script << "\nunset multiplot\n";
   return run_gnuplot(script.str());
 }

@@ -123,6 +123,7 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
       ++m.frames_lost;
       continue;
     }
+    if (f.measurement.extrapolated) ++m.frames_extrapolated;
     if (!f.truth) continue;
     perception_d.push_back(f.measurement.e_d_m - f.truth->e_d_m);
     perception_theta.push_back(f.measurement.e_theta_rad - f.truth->e_theta_rad);
@@ -146,6 +147,8 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["limit_violations"] = m.limit_violations;
   j["frames"] = m.frames;
   j["frames_lost"] = m.frames_lost;
+  j["frames_extrapolated"] = m.frames_extrapolated;
+  j["odometry"] = run.odometry_source;
   j["perception_rms_e_d_m"] = optional_json(m.perception_rms_e_d_m);
   j["perception_rms_e_theta_rad"] = optional_json(m.perception_rms_e_theta_rad);
   j["coverage_area_m2"] = m.coverage_area_m2;

@@ -24,6 +24,8 @@ struct RunMetrics {
   int limit_violations = 0;
   int frames = 0;
   int frames_lost = 0;
+  int frames_extrapolated = 0;  // lines carried back from the view: no remembered tape under
+                                //   the vehicle yet
   std::optional<double> perception_rms_e_d_m;
   std::optional<double> perception_rms_e_theta_rad;
   double coverage_area_m2 = 0.0;  // seed 002: front and rear wheel tracks against the path

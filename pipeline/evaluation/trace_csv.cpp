@@ -102,7 +102,8 @@ void write_frames_csv(std::ostream& out, const RunResult& run) {
 void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& frames,
                             bool with_truth) {
   out << "index,t_s,line_found,e_theta_rad,e_d_m,curvature_1_m,confidence,tape_width_m,"
-         "no_line_reason,points_used,lines_seen,junction_ahead,bad,source,perceive_ms";
+         "no_line_reason,points_used,lines_seen,junction_ahead,bad,source,perceive_ms,extrapolated,"
+         "curvature_change_m,curvature_ahead_1_m";
   if (with_truth) out << ",true_e_theta_rad,true_e_d_m";
   out << '\n' << std::setprecision(9);
   for (const FrameRecord& f : frames) {
@@ -116,7 +117,13 @@ void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& f
     }
     out << without_commas(f.bad ? f.problem : f.no_line_reason) << ',' << m.points_used << ','
         << m.lines_seen << ',' << (m.junction_ahead ? 1 : 0) << ',' << (f.bad ? 1 : 0) << ','
-        << without_commas(f.label) << ',' << 1e3 * f.perceive_s;
+        << without_commas(f.label) << ',' << 1e3 * f.perceive_s << ','
+        << (m.line_found && m.extrapolated ? 1 : 0) << ',';
+    if (m.line_found && std::isfinite(m.curvature_change_m)) {
+      out << m.curvature_change_m << ',' << m.curvature_ahead_1_m;
+    } else {
+      out << ',';
+    }
     if (with_truth) {
       if (f.truth) {
         out << ',' << f.truth->e_theta_rad << ',' << f.truth->e_d_m;

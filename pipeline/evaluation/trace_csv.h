@@ -17,8 +17,9 @@ void write_frames_csv(std::ostream& out, const RunResult& run);
 
 // measurements.csv of replay and track (shared/DESIGN.md): one row per frame, index,t_s,
 // line_found,e_theta_rad,e_d_m,curvature_1_m,confidence,tape_width_m,no_line_reason, then
-// points_used,lines_seen,junction_ahead,bad,source,perceive_ms and, with ground truth,
-// true_e_theta_rad,true_e_d_m. Free text (the reason, the source) has its commas replaced.
+// points_used,lines_seen,junction_ahead,bad,source,perceive_ms,extrapolated,curvature_change_m,
+// curvature_ahead_1_m and, with ground truth, true_e_theta_rad,true_e_d_m. Free text (the reason,
+// the source) has its commas replaced.
 void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& frames,
                             bool with_truth);
 

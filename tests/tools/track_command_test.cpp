@@ -37,6 +37,19 @@ std::vector<nlohmann::json> read_jsonl(const fs::path& file) {
   return lines;
 }
 
+// Commands streamed so far by a run writing to `out` (into its temporary folder beside it,
+// which OutputFolder renames into place at the end).
+int commands_streamed(const fs::path& out) {
+  int lines = 0;
+  for (const fs::directory_entry& entry : fs::directory_iterator(out.parent_path())) {
+    if (entry.path().filename().string().rfind("." + out.filename().string() + ".partial-", 0) != 0)
+      continue;
+    std::ifstream in(entry.path() / "commands.jsonl");
+    for (std::string line; std::getline(in, line);) ++lines;
+  }
+  return lines;
+}
+
 nlohmann::json read_json(const fs::path& file) {
   std::ifstream in(file);
   return nlohmann::json::parse(in);
@@ -121,7 +134,13 @@ TEST_F(AgvTrack, CtrlCStopsCleanly) {
   pid_t pid = 0;
   ASSERT_EQ(posix_spawn(&pid, AGV_BINARY, &actions, nullptr, argv.data(), environ), 0);
   posix_spawn_file_actions_destroy(&actions);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  // Interrupt once the run is under way (commands are streaming): a fixed wait would fire
+  // before the handler is installed on a loaded machine.
+  const auto started = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() - started < std::chrono::seconds(30) &&
+         commands_streamed(out) < 5)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_GE(commands_streamed(out), 5) << "the run never streamed 5 commands";
   const auto interrupted = std::chrono::steady_clock::now();
   kill(pid, SIGINT);
   int status = 0;
