@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <optional>
 
 #include <opencv2/core.hpp>
@@ -19,9 +20,13 @@ namespace agv::perception {
 class FloorOdometry {
  public:
   struct Options {
-    double resolution_m = 0.001;  // bird's-eye pixel
-    double half_size_m = 0.08;    // the view is 2 x this square
-    int min_features = 20;        // texture corners that must agree on a motion
+    double resolution_m = 0.001;   // bird's-eye pixel
+    double half_size_m = 0.08;     // the view is 2 x this square
+    int min_features = 20;         // texture corners that must agree on a motion
+    double min_correlation = 0.5;  // of the views once aligned (texture: 0.85-0.99, noise: < 0)
+    double max_change_m = 0.01;    // a motion this far from the last one is refused
+    double max_change_rad = 0.05;  //   (or turning this much more or less)
+    double min_isotropy = 0.1;     // their gradients: smaller / larger eigenvalue at least this
   };
 
   FloorOdometry(const CameraModel& camera, const Options& options);
@@ -30,14 +35,26 @@ class FloorOdometry {
   // The vehicle's pose at this frame in its frame at the previous one; nullopt for the first
   // frame, or when the alignment fails or is not trusted.
   std::optional<Pose2> motion(const cv::Mat& frame);
-  void reset() { previous_.release(); }
+  void reset() {
+    previous_.release();
+    last_motion_.reset();
+  }
 
  private:
   cv::Mat birds_eye(const cv::Mat& frame) const;
+  struct Views {
+    const cv::Mat& previous;
+    const cv::Mat& now;
+  };
+  // The motion between the views, the corners of the previous one first looked for at
+  // `initial` (bird's-eye pixel -> pixel); nullopt when it cannot be read or is not trusted.
+  std::optional<Pose2> follow(const Views& views, const Eigen::Matrix3d& initial) const;
 
   Options options_;
-  Eigen::Vector2d centre_m_;  // the view's centre, vehicle frame
-  cv::Mat map_x_, map_y_;     // bird's-eye pixel -> camera pixel
+  Eigen::Vector2d centre_m_;          // the view's centre, vehicle frame
+  Eigen::Matrix3d to_floor_;          // bird's-eye pixel (c, r, 1) -> floor point (vehicle frame)
+  cv::Mat map_x_, map_y_;             // bird's-eye pixel -> camera pixel
+  std::optional<Pose2> last_motion_;  // the last motion read (the prediction for the next)
   cv::Mat previous_;
   cv::Mat window_;  // Hanning window for the phase correlation
 };

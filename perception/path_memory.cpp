@@ -59,7 +59,7 @@ std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
 }
 
 void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
-                             bool from_frames, std::vector<Eigen::Vector2d>* in_vehicle) {
+                             OdometryKind kind, std::vector<Eigen::Vector2d>* in_vehicle) {
   // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
   // from the line through the nearest evidence points (the evidence itself, not a curve fitted
   // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
@@ -107,10 +107,11 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, doubl
   // Most likely correction given the points (each good to point_sigma_m) and what the odometry
   // can have got wrong over the distance driven since the last frame: along a straight tape the
   // points say nothing of the shift along it, and the prior keeps it where the odometry put it.
-  const double sigma_t = (from_frames ? options_.frames_prior_shift_m : options_.prior_shift_m) +
-                         options_.prior_shift_per_m * travelled_m;
-  const double sigma_r = (from_frames ? options_.frames_prior_turn_rad : options_.prior_turn_rad) +
-                         options_.prior_turn_rad_per_m * travelled_m;
+  const PathMemoryOptions::Prior& prior = kind == OdometryKind::wheels   ? options_.wheels_prior
+                                          : kind == OdometryKind::frames ? options_.frames_prior
+                                                                         : options_.guess_prior;
+  const double sigma_t = prior.shift_m + options_.prior_shift_per_m * travelled_m;
+  const double sigma_r = prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m;
   const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
   jtj *= point_weight;
   jtd *= point_weight;
@@ -265,7 +266,7 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
 }
 
 LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
-                                   const std::optional<Pose2>& odometry, bool from_frames) {
+                                   const std::optional<Pose2>& odometry, OdometryKind kind) {
   LineMeasurement carried_back = in_view;
   carried_back.extrapolated = in_view.line_found;
   if (!odometry) {
@@ -284,7 +285,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
 
   std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
   const std::vector<Eigen::Vector2d> evidence = evidence_of(detection);
-  register_to(evidence, travelled_m, from_frames, &in_vehicle);
+  register_to(evidence, travelled_m, kind, &in_vehicle);
   correction_ = vehicle_.compose(odometry->inverse());
 
   // Keep what is not too far behind and not too old; add this frame's evidence.

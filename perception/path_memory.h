@@ -11,6 +11,9 @@
 
 namespace agv::perception {
 
+// Where the odometry's motion since the last frame came from.
+enum class OdometryKind { wheels, frames, guess };
+
 struct PathMemoryOptions {
   double keep_behind_m = 0.15;  // tape remembered behind the vehicle origin
   int keep_frames = 40;         // evidence of at most this many frames is kept
@@ -26,10 +29,14 @@ struct PathMemoryOptions {
   // Registration: how well a centre-line point is known, and how far the odometry may have gone
   // wrong between two frames (a constant and a part per metre driven).
   double point_sigma_m = 0.0001;
-  double prior_shift_m = 0.0002, prior_shift_per_m = 0.02;
-  double prior_turn_rad = 0.0002, prior_turn_rad_per_m = 0.01;
-  // The same for motion read from the frames (FloorOdometry), which turns less surely.
-  double frames_prior_shift_m = 0.001, frames_prior_turn_rad = 0.003;
+  // What the odometry may have got wrong between two frames: a constant by kind of odometry
+  // (wheels; motion read from the frames, which turns less surely; a guess, the last motion
+  // again) and a part per metre driven.
+  struct Prior {
+    double shift_m, turn_rad;
+  };
+  Prior wheels_prior{0.0002, 0.0002}, frames_prior{0.001, 0.003}, guess_prior{0.005, 0.03};
+  double prior_shift_per_m = 0.02, prior_turn_rad_per_m = 0.01;
   double max_correction_m = 0.01;     // a registration that needs more than this (or the angle)
   double max_correction_rad = 0.035;  //   means the memory is not this tape: it restarts
   // Preview: the tape ahead is fitted in windows of this half-length every step; a curvature
@@ -55,11 +62,12 @@ class PathMemory {
 
   // One frame: `in_view` is the measurement of the line in view (carried back to the origin),
   // `detection` what perception saw (its followed line's chords are the evidence), `odometry`
-  // the vehicle's odometry pose (any origin) when the frame was taken, `from_frames` when that
-  // odometry was read from the frames rather than the wheels. A frame without a line adds
+  // the vehicle's odometry pose (any origin) when the frame was taken, `kind` where its motion
+  // since the last frame came from. A frame without a line adds
   // nothing and is returned as it is; without odometry the memory restarts.
   LineMeasurement update(const LineMeasurement& in_view, const LineDetection& detection,
-                         const std::optional<Pose2>& odometry, bool from_frames = false);
+                         const std::optional<Pose2>& odometry,
+                         OdometryKind kind = OdometryKind::wheels);
   void reset();
 
   // The remembered centre-line points in the vehicle frame of the last update (for tests and
@@ -73,7 +81,7 @@ class PathMemory {
   };
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
   void register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
-                   bool from_frames, std::vector<Eigen::Vector2d>* in_vehicle);
+                   OdometryKind kind, std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Where the curvature of the tape ahead of the origin changes, and to what (m's preview

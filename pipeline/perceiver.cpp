@@ -2,7 +2,9 @@
 
 namespace agv::pipeline {
 
-std::optional<Pose2> ImagePerceiver::odometry_of(const SourceFrame& frame) {
+std::optional<Pose2> ImagePerceiver::odometry_of(const SourceFrame& frame,
+                                                 perception::OdometryKind* kind) {
+  *kind = perception::OdometryKind::wheels;
   if (frame.odometry) {
     ++wheel_frames_;
     return frame.odometry;
@@ -11,11 +13,13 @@ std::optional<Pose2> ImagePerceiver::odometry_of(const SourceFrame& frame) {
   if (motion) {
     ++floor_frames_;
     last_motion_ = motion;
+    *kind = perception::OdometryKind::frames;
   } else if (last_motion_) {
     ++repeated_frames_;  // a featureless floor, or a frame the alignment missed
     motion = last_motion_;
+    *kind = perception::OdometryKind::guess;
   } else {
-    return frame_odometry_;  // the first frame: the origin of the frames' odometry
+    return std::nullopt;  // no motion read yet: nothing to place the remembered tape with
   }
   frame_odometry_ = frame_odometry_.compose(*motion);
   return frame_odometry_;

@@ -45,8 +45,9 @@ class ImagePerceiver : public Perceiver {
     perception::LineDetection local;
     perception::LineDetection& detection = details ? *details : local;
     const LineMeasurement in_view = estimator_.measure(frame.image, frame.t_s, &detection);
-    const std::optional<Pose2> odometry = odometry_of(frame);
-    return memory_->update(in_view, detection, odometry, !frame.odometry);
+    perception::OdometryKind kind;
+    const std::optional<Pose2> odometry = odometry_of(frame, &kind);
+    return memory_->update(in_view, detection, odometry, kind);
   }
   // A bad frame between: the line tracking starts again; the remembered tape stays (the
   // odometry still places it), but motion read from the frames must start again.
@@ -58,7 +59,9 @@ class ImagePerceiver : public Perceiver {
   std::string odometry_source() const override;
 
  private:
-  std::optional<Pose2> odometry_of(const SourceFrame& frame);
+  // The frame's odometry pose: the wheels', else integrated from the motion read from the
+  // frames, else from the last motion read (a guess); `kind` says which.
+  std::optional<Pose2> odometry_of(const SourceFrame& frame, perception::OdometryKind* kind);
 
   perception::TrackingLineEstimator estimator_;
   std::optional<perception::PathMemory> memory_;

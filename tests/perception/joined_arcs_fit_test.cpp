@@ -1,0 +1,72 @@
+#include "perception/joined_arcs_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace agv::perception {
+namespace {
+
+// Exact points of a tape that runs straight along x up to x_b and then turns left on an arc of
+// curvature k (a line joined to an arc with a common tangent), from x0 to x1 every step, with
+// Gaussian noise sigma across it.
+std::vector<Eigen::Vector2d> line_then_arc(double offset_m, double x_b, double k, double x0,
+                                           double x1, double sigma_m, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, sigma_m);
+  std::vector<Eigen::Vector2d> points;
+  for (double s = x0; s <= x1; s += 0.0005) {
+    Eigen::Vector2d p(s, offset_m);
+    if (s > x_b) {  // on the arc, s the arc length from the joint
+      const double a = k * (s - x_b);
+      p = Eigen::Vector2d(x_b + std::sin(a) / k, offset_m + (1.0 - std::cos(a)) / k);
+    }
+    points.push_back(p + Eigen::Vector2d(0.0, noise(rng)));
+  }
+  return points;
+}
+
+// A line joined to an arc of R 0.5 m 12 mm ahead of x = 0: the fit keeps two pieces, puts the
+// joint where it is (within two breakpoint steps, 8 mm: the arc departs from the line by only
+// k d^2 / 2 = 0.06 mm after 8 mm, less than the noise of 0.05 mm times the few points there)
+// and reports the line's curvature (0) and offset at x = 0, not the arc's.
+TEST(JoinedArcsFit, FindsTheJointBetweenALineAndAnArc) {
+  const double k = 2.0;
+  const std::vector<Eigen::Vector2d> points = line_then_arc(0.004, 0.012, k, -0.05, 0.05, 5e-5, 3);
+  const std::optional<JoinedArcs> fit = fit_joined_arcs(points);
+  ASSERT_TRUE(fit);
+  ASSERT_TRUE(fit->break_x_m);
+  EXPECT_NEAR(*fit->break_x_m, 0.012, 0.008);
+  EXPECT_NEAR(fit->offset_m, 0.004, 5e-5);    // 1 sigma of one point: many points average
+  EXPECT_NEAR(fit->slope, 0.0, 0.003);        // 0.17 deg
+  EXPECT_NEAR(fit->curvature_1_m, 0.0, 0.3);  // vs 2.0 on the arc
+  EXPECT_NEAR(fit->curvature_far_1_m, k, 0.4);
+  EXPECT_LT(fit->rms_m, 8e-5);
+}
+
+// One arc all through: no joint is invented (the two-piece model does not explain the points
+// better by what the information criterion asks), and the curvature is the arc's.
+TEST(JoinedArcsFit, OneArcHasNoJoint) {
+  // The arc of R 1 m starts (tangent to x) just before the first point.
+  const std::vector<Eigen::Vector2d> points =
+      line_then_arc(-0.002, -0.0501, 1.0, -0.05, 0.05, 5e-5, 4);
+  const std::optional<JoinedArcs> fit = fit_joined_arcs(points);
+  ASSERT_TRUE(fit);
+  EXPECT_FALSE(fit->break_x_m);
+  // At x = 0, 50 mm along the arc: slope tan(0.05), y = -0.002 + (1 - cos 0.05); the fit's
+  // curvature is y'' = k / cos^3 = 1.004 (the frame's slope is small).
+  EXPECT_NEAR(fit->slope, std::tan(0.05), 0.003);
+  EXPECT_NEAR(fit->offset_m, -0.002 + (1.0 - std::cos(0.05)), 5e-5);
+  EXPECT_NEAR(fit->curvature_1_m, 1.0, 0.3);
+  EXPECT_LT(fit->rms_m, 8e-5);
+}
+
+// Too few points, or points on one side of x = 0 only: no fit.
+TEST(JoinedArcsFit, RefusesTooFewPointsOrOneSide) {
+  EXPECT_FALSE(fit_joined_arcs(line_then_arc(0.0, 1.0, 1.0, -0.001, 0.001, 0.0, 5)));
+  EXPECT_FALSE(fit_joined_arcs(line_then_arc(0.0, 1.0, 1.0, 0.01, 0.05, 0.0, 5)));
+}
+
+}  // namespace
+}  // namespace agv::perception
