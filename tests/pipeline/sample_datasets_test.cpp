@@ -32,7 +32,9 @@ std::vector<double> shape_changes_m(const Scenario& scenario) {
 
 struct DatasetAccuracy {
   int frames = 0, single_piece = 0, single_piece_found = 0, frames_bad = 0;
-  double rms_e_d_m = 0.0, rms_e_theta_rad = 0.0;  // on frames whose view holds one piece
+  double rms_e_d_m = 0.0, rms_e_theta_rad = 0.0;          // on frames whose view holds one piece
+  double all_rms_e_d_m = 0.0, all_rms_e_theta_rad = 0.0;  // on every frame with a line
+  int found = 0;
 };
 
 // Replays a shipped dataset (as `agv replay` does, with its camera.yaml) and compares with the
@@ -54,7 +56,7 @@ DatasetAccuracy replay_sample(const std::string& name, const std::string& scenar
   const std::vector<double> changes = shape_changes_m(scenario);
   const double view_end_m = dataset.camera.mount->xyz_m.x() + 0.25;
   DatasetAccuracy a;
-  double d2 = 0.0, t2 = 0.0;
+  double d2 = 0.0, t2 = 0.0, all_d2 = 0.0, all_t2 = 0.0;
   EXPECT_EQ(result.frames.size(), dataset.rows.size());
   for (size_t i = 0; i < result.frames.size(); ++i) {
     const FrameRecord& frame = result.frames[i];
@@ -62,6 +64,11 @@ DatasetAccuracy replay_sample(const std::string& name, const std::string& scenar
     ++a.frames;
     a.frames_bad += frame.bad ? 1 : 0;
     if (!row.pose || !row.truth) continue;
+    if (frame.measurement.line_found) {
+      ++a.found;
+      all_d2 += std::pow(frame.measurement.e_d_m - row.truth->e_d_m, 2);
+      all_t2 += std::pow(wrap_angle_rad(frame.measurement.e_theta_rad - row.truth->e_theta_rad), 2);
+    }
     const double s0 = scenario.path.project(row.pose->translation()).s_m;
     bool one_piece = true;
     for (double s : changes) one_piece = one_piece && !(s > s0 - 0.1 && s < s0 + view_end_m);
@@ -72,6 +79,8 @@ DatasetAccuracy replay_sample(const std::string& name, const std::string& scenar
     d2 += std::pow(frame.measurement.e_d_m - row.truth->e_d_m, 2);
     t2 += std::pow(wrap_angle_rad(frame.measurement.e_theta_rad - row.truth->e_theta_rad), 2);
   }
+  a.all_rms_e_d_m = std::sqrt(all_d2 / std::max(1, a.found));
+  a.all_rms_e_theta_rad = std::sqrt(all_t2 / std::max(1, a.found));
   a.rms_e_d_m = std::sqrt(d2 / std::max(1, a.single_piece_found));
   a.rms_e_theta_rad = std::sqrt(t2 / std::max(1, a.single_piece_found));
   return a;
@@ -100,8 +109,17 @@ TEST(SampleDatasets, ReplayEachWithinTheAccuracyBar) {
     EXPECT_EQ(a.single_piece_found, a.single_piece) << sample.name;
     EXPECT_LE(a.rms_e_d_m, sample.max_rms_e_d_m) << sample.name;
     EXPECT_LE(rad_to_deg(a.rms_e_theta_rad), sample.max_rms_e_theta_deg) << sample.name;
-    std::printf("%s: %d of %d frames one-piece, RMS %.3f mm %.3f deg\n", sample.name,
-                a.single_piece, a.frames, 1e3 * a.rms_e_d_m, rad_to_deg(a.rms_e_theta_rad));
+    // Every frame, joints and the fork under the vehicle included: the errors come from the
+    // remembered tape under it (placed with the motion read from the frames: these recordings
+    // have no odometry columns), within twice issue 3's bar (carried back from the view they
+    // were up to 50 mm off: 18.8 mm RMS on the epoxy curve).
+    EXPECT_EQ(a.found, a.frames) << sample.name;
+    EXPECT_LE(a.all_rms_e_d_m, 0.001) << sample.name;
+    EXPECT_LE(rad_to_deg(a.all_rms_e_theta_rad), 0.4) << sample.name;
+    std::printf(
+        "%s: %d of %d frames one-piece, RMS %.3f mm %.3f deg; all frames %.3f mm %.3f deg\n",
+        sample.name, a.single_piece, a.frames, 1e3 * a.rms_e_d_m, rad_to_deg(a.rms_e_theta_rad),
+        1e3 * a.all_rms_e_d_m, rad_to_deg(a.all_rms_e_theta_rad));
   }
 }
 
