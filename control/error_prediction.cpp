@@ -8,10 +8,16 @@ namespace {
 
 constexpr double kMaxStep_s = 0.005;
 
+// The foot point's speed along the path.
+double along_path_m_s(const TrackingError& e, const BodyTwist& u, double curvature_1_m) {
+  const double c = std::cos(e.e_theta_rad), s = std::sin(e.e_theta_rad);
+  return (u.vx_m_s * c - u.vy_m_s * s) / (1.0 - curvature_1_m * e.e_d_m);
+}
+
 TrackingError derivative(const TrackingError& e, const BodyTwist& u, double curvature_1_m) {
   const double c = std::cos(e.e_theta_rad), s = std::sin(e.e_theta_rad);
-  const double along_m_s = (u.vx_m_s * c - u.vy_m_s * s) / (1.0 - curvature_1_m * e.e_d_m);
-  return {u.wz_rad_s - curvature_1_m * along_m_s, u.vx_m_s * s + u.vy_m_s * c};
+  return {u.wz_rad_s - curvature_1_m * along_path_m_s(e, u, curvature_1_m),
+          u.vx_m_s * s + u.vy_m_s * c};
 }
 
 // Classic Runge-Kutta step of the error kinematics under a constant command.
@@ -55,10 +61,8 @@ TrackingError CommandHistory::predict(const TrackingError& at_from,
       const double h = piece_s / steps;
       const double k =
           travelled_m < curvature.change_m ? curvature.curvature_1_m : curvature.ahead_1_m;
-      const BodyTwist& u = acting.command;
-      const double c = std::cos(e.e_theta_rad), sn = std::sin(e.e_theta_rad);
-      travelled_m += h * (u.vx_m_s * c - u.vy_m_s * sn) / (1.0 - k * e.e_d_m);
-      e = rk4(e, u, k, h);
+      travelled_m += h * along_path_m_s(e, acting.command, k);
+      e = rk4(e, acting.command, k, h);
     }
     t = piece_end_s;
   }

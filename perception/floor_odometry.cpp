@@ -64,10 +64,15 @@ cv::Mat FloorOdometry::birds_eye(const cv::Mat& frame) const {
 }
 
 std::optional<Pose2> FloorOdometry::motion(const cv::Mat& frame) {
-  cv::Mat view = birds_eye(frame);
-  std::swap(view, previous_);  // view: the previous frame's
-  if (view.empty()) return std::nullopt;
-  const Views views = {view, previous_};
+  const cv::Mat now = birds_eye(frame);
+  const cv::Mat before = previous_;
+  previous_ = now;
+  if (before.empty()) return std::nullopt;
+  Views views{before, now, {}, {}, {}};
+  before.convertTo(views.previous_8u, CV_8U, 4.0, 128.0);
+  now.convertTo(views.now_8u, CV_8U, 4.0, 128.0);
+  cv::goodFeaturesToTrack(views.previous_8u, views.corners, 300, 0.01, 4.0);
+  if (static_cast<int>(views.corners.size()) < options_.min_features) return std::nullopt;
   // Where the texture's corners should be now: moved by the last motion (a vehicle's speed
   // changes little between frames); when that fails (the first motion, a sudden change), moved
   // by the shift phase correlation finds (any size, no rotation).
@@ -75,7 +80,7 @@ std::optional<Pose2> FloorOdometry::motion(const cv::Mat& frame) {
   if (last_motion_)
     motion = follow(views, to_floor_.inverse() * homogeneous(last_motion_->inverse()) * to_floor_);
   if (!motion) {
-    if (window_.empty()) cv::createHanningWindow(window_, view.size(), CV_32F);
+    if (window_.empty()) cv::createHanningWindow(window_, now.size(), CV_32F);
     const cv::Point2d shift = cv::phaseCorrelate(views.previous, views.now, window_);
     Eigen::Matrix3d moved = Eigen::Matrix3d::Identity();
     moved(0, 2) = shift.x;
@@ -99,12 +104,9 @@ std::optional<Pose2> FloorOdometry::follow(const Views& views,
                                            const Eigen::Matrix3d& initial) const {
   // The texture's corners followed from their initial guess by pyramidal Lucas-Kanade, and the
   // rigid motion that moves most of them (RANSAC).
-  cv::Mat previous_8u, view_8u;
-  views.previous.convertTo(previous_8u, CV_8U, 4.0, 128.0);
-  views.now.convertTo(view_8u, CV_8U, 4.0, 128.0);
-  std::vector<cv::Point2f> corners, followed;
-  cv::goodFeaturesToTrack(previous_8u, corners, 300, 0.01, 4.0);
-  if (static_cast<int>(corners.size()) < options_.min_features) return std::nullopt;
+  const cv::Mat& previous_8u = views.previous_8u;
+  const std::vector<cv::Point2f>& corners = views.corners;
+  std::vector<cv::Point2f> followed;
   for (const cv::Point2f& c : corners) {
     const Eigen::Vector3d q = initial * Eigen::Vector3d(c.x, c.y, 1.0);
     followed.emplace_back(static_cast<float>(q.x()), static_cast<float>(q.y()));
@@ -112,7 +114,7 @@ std::optional<Pose2> FloorOdometry::follow(const Views& views,
   std::vector<unsigned char> status;
   std::vector<float> error;
   cv::calcOpticalFlowPyrLK(
-      previous_8u, view_8u, corners, followed, status, error, cv::Size(15, 15), 2,
+      previous_8u, views.now_8u, corners, followed, status, error, cv::Size(15, 15), 2,
       cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 20, 0.01),
       cv::OPTFLOW_USE_INITIAL_FLOW);
   std::vector<cv::Point2f> from, to;

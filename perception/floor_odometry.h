@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -42,9 +43,12 @@ class FloorOdometry {
 
  private:
   cv::Mat birds_eye(const cv::Mat& frame) const;
+  // Two consecutive bird's-eye views, as 8-bit images too, and the previous one's corners.
   struct Views {
     const cv::Mat& previous;
     const cv::Mat& now;
+    cv::Mat previous_8u, now_8u;
+    std::vector<cv::Point2f> corners;
   };
   // The motion between the views, the corners of the previous one first looked for at
   // `initial` (bird's-eye pixel -> pixel); nullopt when it cannot be read or is not trusted.

@@ -13,26 +13,29 @@ struct Solved {
   double rss = std::numeric_limits<double>::infinity();
 };
 
-// Least squares of y = a + b x + k1 x^2/2 + (k2 - k1) (x - xb)_+^2 / 2 over the points marked;
-// without a breakpoint, k2 = k1 (three unknowns).
+// The model y = a + b x + k1 x^2/2 + (k2 - k1) (x - xb)_+^2 / 2 is linear in (a, b, k1, k2):
+// y = basis(x) . (a, b, k1, k2).
+Eigen::Vector4d basis(double x, std::optional<double> xb) {
+  Eigen::Vector4d r(1.0, x, 0.5 * x * x, 0.0);
+  if (xb && x > *xb) {
+    const double h = 0.5 * (x - *xb) * (x - *xb);
+    r[2] -= h;  // k1 x^2/2 - k1 h + k2 h
+    r[3] = h;
+  }
+  return r;
+}
+
+// Least squares of the model over the points marked; without a breakpoint, k2 = k1 (three
+// unknowns).
 Solved solve(const std::vector<Eigen::Vector2d>& p, const std::vector<bool>& use,
              std::optional<double> xb) {
   const int n_params = xb ? 4 : 3;
   Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
   Eigen::Vector4d aty = Eigen::Vector4d::Zero();
-  auto row_of = [&](double x) {
-    Eigen::Vector4d r(1.0, x, 0.5 * x * x, 0.0);
-    if (xb && x > *xb) {
-      const double h = 0.5 * (x - *xb) * (x - *xb);
-      r[2] -= h;  // k1 x^2/2 - k1 h + k2 h
-      r[3] = h;
-    }
-    return r;
-  };
   int used = 0;
   for (size_t i = 0; i < p.size(); ++i) {
     if (!use[i]) continue;
-    const Eigen::Vector4d r = row_of(p[i].x());
+    const Eigen::Vector4d r = basis(p[i].x(), xb);
     ata += r * r.transpose();
     aty += r * p[i].y();
     ++used;
@@ -46,7 +49,7 @@ Solved solve(const std::vector<Eigen::Vector2d>& p, const std::vector<bool>& use
   s.rss = 0.0;
   for (size_t i = 0; i < p.size(); ++i) {
     if (!use[i]) continue;
-    const double r = row_of(p[i].x()).head(n_params).dot(solution) - p[i].y();
+    const double r = basis(p[i].x(), xb).head(n_params).dot(solution) - p[i].y();
     s.rss += r * r;
   }
   return s;
@@ -103,13 +106,8 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   auto [model, xb] = best_model(points, use, options);
   // Once: drop the points far off (a stray chord, a seam), then fit again.
   std::vector<double> residuals;
-  auto value = [&](const Solved& s, std::optional<double> b, double x) {
-    double y = s.c[0] + s.c[1] * x + 0.5 * s.c[2] * x * x;
-    if (b && x > *b) y += 0.5 * (s.c[3] - s.c[2]) * (x - *b) * (x - *b);
-    return y;
-  };
   for (const Eigen::Vector2d& p : points)
-    residuals.push_back(std::abs(value(model, xb, p.x()) - p.y()));
+    residuals.push_back(std::abs(basis(p.x(), xb).dot(model.c) - p.y()));
   std::vector<double> sorted = residuals;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const double sigma = std::max(1e-6, 1.4826 * sorted[sorted.size() / 2]);

@@ -17,10 +17,9 @@ CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, doubl
   const Eigen::Vector2d n0(-t0.y(), t0.x());
   CurveModel m;
   m.curvature_1_m = k;
-  // Signed distance of the origin from the circle through p0 (CurveModel's formula with F = p0).
-  const Eigen::Vector2d q = -p0;
-  const double u = q.dot(n0), r2 = q.squaredNorm();
-  m.e_d_m = (2.0 * u - k * r2) / (1.0 + std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2)));
+  // Signed distance of the origin from the circle through p0: that of -p0 from the same circle
+  // moved to pass through the origin.
+  m.e_d_m = CurveModel{0.0, heading0, k}.signed_distance(-p0);
   if (std::abs(k) < 1e-9) {
     m.heading_rad = heading0;
     return m;
