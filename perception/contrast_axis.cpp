@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -178,7 +179,7 @@ float quantile(std::vector<float>& values, double q) {
 
 std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
                                                  const std::optional<cv::Vec3d>& tape_hint_bgr,
-                                                 double bar_width_px) {
+                                                 const std::vector<double>& bar_widths_px) {
   if (frame.empty()) return std::nullopt;
   const int channels = frame.channels();
   const cv::Vec3d floor = median_colour(frame);
@@ -186,13 +187,18 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
   cv::Mat as_float;
   frame.convertTo(as_float, CV_32F);
   cv::split(as_float, planes);
-  const int bar = std::max(2, static_cast<int>(std::lround(bar_width_px)));
-  // Linear bar responses per channel, along rows and columns; a candidate's response is their
-  // combination with its weights. Every second sample is enough to score.
-  std::vector<cv::Mat> rows(channels), cols(channels);
-  for (int c = 0; c < channels; ++c) {
-    rows[c] = linear_bar(planes[c], bar, true);
-    cols[c] = linear_bar(planes[c], bar, false);
+  // Linear bar responses per width and channel, along rows and columns; a candidate's response
+  // is their combination with its weights, the strongest over widths and directions. Every
+  // second sample is enough to score.
+  const size_t widths = bar_widths_px.size();
+  std::vector<std::vector<cv::Mat>> rows(widths, std::vector<cv::Mat>(channels)),
+      cols(widths, std::vector<cv::Mat>(channels));
+  for (size_t w = 0; w < widths; ++w) {
+    const int bar = std::max(2, static_cast<int>(std::lround(bar_widths_px[w])));
+    for (int c = 0; c < channels; ++c) {
+      rows[w][c] = linear_bar(planes[c], bar, true);
+      cols[w][c] = linear_bar(planes[c], bar, false);
+    }
   }
   std::vector<cv::Vec3d> candidates;
   if (tape_hint_bgr) candidates.push_back(*tape_hint_bgr - floor);
@@ -217,13 +223,17 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
     response.clear();
     for (int y = 0; y < frame.rows; y += 2) {
       for (int x = 0; x < frame.cols; x += 2) {
-        float r = 0.0f, s = 0.0f;
-        for (int c = 0; c < channels; ++c) {
-          const float w = static_cast<float>(channels == 1 ? 1.0 : d[c]);
-          r += w * rows[c].at<float>(y, x);
-          s += w * cols[c].at<float>(y, x);
+        float strongest = -std::numeric_limits<float>::infinity();
+        for (size_t b = 0; b < widths; ++b) {
+          float r = 0.0f, s = 0.0f;
+          for (int c = 0; c < channels; ++c) {
+            const float w = static_cast<float>(channels == 1 ? 1.0 : d[c]);
+            r += w * rows[b][c].at<float>(y, x);
+            s += w * cols[b][c].at<float>(y, x);
+          }
+          strongest = std::max(strongest, std::max(r, s));
         }
-        response.push_back(std::max(r, s));
+        response.push_back(strongest);
       }
     }
     const float peak = quantile(response, 0.995);

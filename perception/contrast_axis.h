@@ -2,6 +2,7 @@
 
 #include <opencv2/core.hpp>
 #include <optional>
+#include <vector>
 
 namespace agv::perception {
 
@@ -27,15 +28,15 @@ struct ContrastAxis {
 std::optional<ContrastAxis> estimate_contrast_axis(const cv::Mat& frame,
                                                    const std::optional<cv::Vec3d>& tape_hint_bgr);
 
-// Chooses the colour axis along which the tape stands out as a bar of the expected width (in
-// pixels of the downsampled `frame`): candidates are the hint (if any), the direction of the
-// pixels that differ most from the floor, darker, lighter, and six chroma directions; each is
-// scored by how far the strongest response of a linear bar detector (mean over the bar minus the
-// mean of its flanks, along rows and columns) stands above that response's robust spread. A
-// broad shadow or a lit patch differs from the floor too, but is no bar. The axis is scaled so
-// that the tape is about 1. Nullopt for a flat frame.
+// Chooses the colour axis along which the tape stands out as a bar of one of the expected
+// widths (in pixels of the downsampled `frame`; the strongest response over them): candidates are
+// the hint (if any), the direction of the pixels that differ most from the floor, darker, lighter,
+// and six chroma directions; each is scored by how far the strongest response of a linear bar
+// detector (mean over the bar minus the mean of its flanks, along rows and columns) stands above
+// that response's robust spread. A broad shadow or a lit patch differs from the floor too, but is
+// no bar. The axis is scaled so that the tape is about 1. Nullopt for a flat frame.
 std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
                                                  const std::optional<cv::Vec3d>& tape_hint_bgr,
-                                                 double bar_width_px);
+                                                 const std::vector<double>& bar_widths_px);
 
 }  // namespace agv::perception

@@ -94,15 +94,29 @@ std::optional<PredictedBand> band_of(const LineDetection& previous, const cv::Si
 LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
     : camera_(camera), options_(options), floor_map_(camera) {
   // Tape width in downsampled pixels at the middle of the view; without a configured width,
-  // the common widths from 12 to 50 mm.
+  // widths from 8 to 128 mm in steps of 2x (a bar detector answers to about 0.7-1.4 times its
+  // width), those that fit the view: a bar and its flanks (twice its width) across at most the
+  // image's shorter side (a wider bar answers to the lens's vignetting and the light's
+  // gradient, not to tape).
   const double footprint_m = std::max(1e-6, floor_map_.typical_footprint_m());
-  const std::vector<double> widths_m = options_.tape.width_m > 0.0
-                                           ? std::vector<double>{options_.tape.width_m}
-                                           : std::vector<double>{0.012, 0.025, 0.05};
+  const double widest_m =
+      std::min(camera.intrinsics().width_px, camera.intrinsics().height_px) * footprint_m / 2.0;
+  std::vector<double> widths_m;
+  if (options_.tape.width_m > 0.0) {
+    widths_m = {options_.tape.width_m};
+  } else {
+    for (double width_m = 0.008; width_m <= 0.13; width_m *= 2.0)
+      if (width_m <= widest_m || widths_m.empty()) widths_m.push_back(width_m);
+  }
   for (double width_m : widths_m)
     bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
   tape_width_px_ = *std::max_element(widths_m.begin(), widths_m.end()) / footprint_m;
   options_.lines.expected_width_m = options_.tape.width_m;
+  if (options.tape.width_m > 0.0) {
+    Options any_width = options;
+    any_width.tape.width_m = 0.0;
+    any_width_ = std::make_shared<const LineEstimator>(camera, any_width);
+  }
   // Pieces of tape laid end to end are rarely collinear to better than a tenth of their width:
   // the inlier band grows with the width so that such a seam does not split a line.
   const double reference_width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
@@ -114,6 +128,17 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
 
 LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
                                         LineDetection* details) const {
+  const LineMeasurement m = estimate_with_widths(frame, stamp_s, details);
+  if (m.line_found || !any_width_) return m;
+  LineDetection any;
+  const LineMeasurement found = any_width_->estimate(frame, stamp_s, details ? &any : nullptr);
+  if (!found.line_found) return m;  // the reason the configured width gave
+  if (details) *details = std::move(any);
+  return found;
+}
+
+LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double stamp_s,
+                                                    LineDetection* details) const {
   LineDetection local;
   LineDetection& d = details ? *details : local;
   d = LineDetection{};
@@ -127,9 +152,8 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
   for (int factor = 1; factor < ds; factor *= 2) {
     cv::resize(small, small, cv::Size(small.cols / 2, small.rows / 2), 0, 0, cv::INTER_AREA);
   }
-  const std::optional<ContrastAxis> axis = choose_contrast_axis(
-      small, options_.tape.color_bgr,
-      *std::max_element(bar_widths_small_px_.begin(), bar_widths_small_px_.end()));
+  const std::optional<ContrastAxis> axis =
+      choose_contrast_axis(small, options_.tape.color_bgr, bar_widths_small_px_);
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
   const TapeRegions coarse =
       find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
@@ -139,16 +163,22 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
 
   // The bar response covers at least the tape's middle half: 0.6 of a width beyond it reaches
   // past the edges onto the floor.
-  EdgeScanOptions scan = options_.scan;
-  scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(0.6 * tape_width_px_)));
-  scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * tape_width_px_));
   const int regions = std::min<int>(options_.max_regions, static_cast<int>(coarse.regions.size()));
   for (int r = 0; r < regions; ++r) {
     const TapeRegion& region = coarse.regions[r];
     // A single band (long, one tape wide) is crossed best by scan lines across it; anything
-    // else (curves, corners, junctions) is scanned both ways.
-    const bool band =
-        region.length_px > 4.0 * region.width_px && region.width_px < 1.6 * tape_width_px_;
+    // else (curves, corners, junctions) is scanned both ways. Without a configured width, a band
+    // is as wide across as its area says, and where the region is no band its own width (area
+    // over length: an upper bound for a corner or a crossing) is the widest tape it can hold.
+    const bool configured = options_.tape.width_m > 0.0;
+    const bool band = region.length_px > 4.0 * region.width_px &&
+                      (configured ? region.width_px < 1.6 * tape_width_px_
+                                  : region.spread_px < 1.5 * region.width_px);
+    const double width_px =
+        configured || band ? tape_width_px_ : std::min(tape_width_px_, 1.5 * region.width_px);
+    EdgeScanOptions scan = options_.scan;
+    scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(0.6 * width_px)));
+    scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * width_px));
     const bool rows_first = std::abs(region.direction.y) >= std::abs(region.direction.x);
     for (bool along_rows : {true, false}) {
       if (band && along_rows != rows_first) continue;
@@ -236,8 +266,11 @@ LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& f
     line.open_end = near_border(line.model.point_at(line.s_max_m));
   }
   // A branch is a piece of tape leaving the junction by more than a tape width (less is the
-  // overlap of a corner), or running out of view once clear of the crossing tape.
-  const double width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
+  // overlap of a corner), or running out of view once clear of the crossing tape. The width is
+  // the configured one, else the widest measured (the lines are pieces of one tape).
+  double width_m = options_.tape.width_m;
+  if (!(width_m > 0.0))
+    for (const DetectedLine& line : d.lines) width_m = std::max(width_m, line.width_m);
   d.junction = find_junction(d.lines, width_m, std::max(0.01, width_m), 0.6 * width_m);
   const FollowedLine followed =
       choose_line(d.lines, d.junction, options_.branch, options_.max_branch_turn_rad);

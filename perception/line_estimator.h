@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
@@ -69,7 +70,9 @@ class LineEstimator {
   LineEstimator(const CameraModel& camera, const Options& options);
 
   // Measurement of one frame taken at stamp_s (8-bit BGR or grey, the camera's size; any other
-  // frame gives line_found = false with the reason in `details`).
+  // frame gives line_found = false with the reason in `details`). A configured tape width is a
+  // hint: where it finds no line, the frame is searched again for tape of any width (its
+  // measured width is in the measurement; the caller can tell the user).
   LineMeasurement estimate(const cv::Mat& frame, double stamp_s,
                            LineDetection* details = nullptr) const;
 
@@ -93,12 +96,17 @@ class LineEstimator {
   void add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const;
   // From the lines found (d.lines not empty): junction, branch choice and the measurement.
   LineMeasurement measurement_of(LineDetection& d, const cv::Mat& frame, double stamp_s) const;
+  // estimate() with the widths of this estimator only.
+  LineMeasurement estimate_with_widths(const cv::Mat& frame, double stamp_s,
+                                       LineDetection* details) const;
 
   CameraModel camera_;
   Options options_;
   FloorMap floor_map_;
   std::vector<double> bar_widths_small_px_;  // bar detector widths (see find_tape_regions)
   double tape_width_px_ = 0.0;               // largest expected tape width in full-size pixels
+  // With a configured width: the same estimator for tape of any width (the hint's fallback).
+  std::shared_ptr<const LineEstimator> any_width_;
 };
 
 }  // namespace agv::perception

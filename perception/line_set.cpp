@@ -228,7 +228,7 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
 ChordSet chord_set(const std::vector<Chord>& chords, const LineSetOptions& options,
                    std::vector<bool>* usable) {
   ChordSet c;
-  const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.15;
+  const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.3;
   usable->clear();
   for (const Chord& chord : chords) {
     c.centres.push_back(chord.centre());

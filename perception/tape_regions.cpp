@@ -182,6 +182,9 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
         (cxx + cyy) / 2.0 + std::sqrt(std::pow((cxx - cyy) / 2.0, 2) + cxy * cxy);
     region.length_px = std::sqrt(12.0 * major_var) * downsample;
     region.width_px = area * downsample * downsample / std::max(region.length_px, 1.0);
+    const double minor_var =
+        (cxx + cyy) / 2.0 - std::sqrt(std::pow((cxx - cyy) / 2.0, 2) + cxy * cxy);
+    region.spread_px = std::sqrt(12.0 * std::max(0.0, minor_var)) * downsample;
     region.centroid_px = {(c.x + 0.5) * downsample - 0.5, (c.y + 0.5) * downsample - 0.5};
     result.regions.push_back(region);
   }

@@ -16,6 +16,8 @@ struct TapeRegion {
   cv::Point2d direction;    // unit vector of the major axis in the image
   double length_px = 0.0;   // extent along the major axis, full resolution
   double width_px = 0.0;    // mean extent across it (area / length)
+  double spread_px = 0.0;   // extent across it from the second moments (a band: its width;
+                            // a corner or a crossing: much more than width_px)
 };
 
 // The coarse stage of line detection: where in the image the tape may be.

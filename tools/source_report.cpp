@@ -92,6 +92,7 @@ SourceFigures source_figures(const pipeline::RunResult& result) {
       continue;
     }
     if (m.junction_ahead) ++f.junctions;
+    if (m.tape_width_m > 0.0) f.tape_width_m.push_back(m.tape_width_m);
     if (frame.truth) {
       f.error_e_d_m.push_back(m.e_d_m - frame.truth->e_d_m);
       f.error_e_theta_rad.push_back(wrap_angle_rad(m.e_theta_rad - frame.truth->e_theta_rad));
@@ -127,6 +128,24 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
   for (const pipeline::FrameRecord& frame : result.frames)
     extrapolated += frame.measurement.line_found && frame.measurement.extrapolated ? 1 : 0;
   j["frames_extrapolated"] = extrapolated;
+  // The tape's width as measured, and the camera file's (a hint): when the tape seen is
+  // consistently other than the hint, say so once.
+  const std::optional<double> configured_m = setup.opened.camera.tape_width_m;
+  const double measured_m = f.tape_width_m.empty() ? 0.0 : percentile(f.tape_width_m, 0.5);
+  j["tape_width_m"] = {
+      {"measured_median",
+       f.tape_width_m.empty() ? nlohmann::json(nullptr) : nlohmann::json(measured_m)},
+      {"configured", configured_m ? nlohmann::json(*configured_m) : nlohmann::json(nullptr)}};
+  j["warnings"] = nlohmann::json::array();
+  if (configured_m && f.tape_width_m.size() >= 5 &&
+      std::abs(measured_m - *configured_m) > 0.15 * *configured_m) {
+    char text[256];
+    std::snprintf(text, sizeof(text),
+                  "the tape measures %.1f mm wide (median of %zu frames), the camera file says "
+                  "%.1f mm (tape_width_m): correct it, or remove it to have the width measured",
+                  1e3 * measured_m, f.tape_width_m.size(), 1e3 * *configured_m);
+    j["warnings"].push_back(text);
+  }
   j["perception_rms_e_d_m"] = rms_or_null(f.error_e_d_m);
   j["perception_rms_e_theta_rad"] = rms_or_null(f.error_e_theta_rad);
   j["commands"] = result.rows.size();
@@ -208,6 +227,8 @@ void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult
   if (!failure.empty())
     std::cerr << "agv " << command << ": warning: plot skipped: " << failure << '\n';
   folder.commit();
+  for (const nlohmann::json& warning : summary["warnings"])
+    std::cerr << "agv " << command << ": warning: " << warning.get<std::string>() << '\n';
   if (!json) return;
   summary["output"] = folder.target().string();
   std::cout << summary.dump(2) << '\n';

@@ -44,6 +44,7 @@ class FrameAnnotator {
 struct SourceFigures {
   int frames = 0, lost = 0, bad = 0, junctions = 0;
   std::vector<double> error_e_d_m, error_e_theta_rad, perceive_ms;
+  std::vector<double> tape_width_m;  // measured, every frame with a line
   nlohmann::json bad_frames = nlohmann::json::array();
 };
 SourceFigures source_figures(const pipeline::RunResult& result);

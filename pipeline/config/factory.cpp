@@ -170,7 +170,9 @@ double camera_period_s(const Scenario& s) {
 perception::LineEstimator::Options recorded_perception_options(
     const Scenario& s, const perception::CameraFile& camera) {
   perception::LineEstimator::Options options = perception_options(s);
-  options.tape.width_m = camera.tape_width_m.value_or(s.tape.width_m);
+  // The recording's tape is the camera file's (the scenario's tape is the rendered one): its
+  // width if the file gives it, else measured.
+  options.tape.width_m = camera.tape_width_m.value_or(0.0);
   options.tape.color_bgr = camera.tape_color_bgr;
   return options;
 }
