@@ -31,6 +31,20 @@ std::optional<double> crossing(const CurveModel& a, const CurveModel& b, double 
   return std::nullopt;
 }
 
+// Where `a`, continued from arc position s_end in direction `way` (+1 or -1) for up to
+// kReach_m, first overlaps `b` (centre lines within half a tape width): a branch that leaves a
+// tape tangentially shows as a line of its own only once clear of it. Nullopt if it does not.
+std::optional<double> overlap_before(const CurveModel& a, const CurveModel& b, double s_end,
+                                     double way, double width_m) {
+  constexpr double kReach_m = 0.15, kStep_m = 0.002;
+  const CurveModel::Prepared other = b.prepared();
+  for (double t = 0.0; t <= kReach_m; t += kStep_m) {
+    const double s = s_end + way * t;
+    if (std::abs(other.signed_distance(a.point_at(s))) <= 0.5 * width_m) return s;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 BranchChoice parse_branch_choice(const std::string& word) {
@@ -48,49 +62,77 @@ const char* branch_choice_name(BranchChoice choice) {
 
 std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m,
                                       double min_branch_m, double min_open_branch_m) {
-  // Where pairs of lines cross within their evidence.
-  std::vector<Eigen::Vector2d> crossings;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    for (size_t j = i + 1; j < lines.size(); ++j) {
+  // Where pairs of lines meet within their evidence: where they cross, or where the evidence of
+  // one ends beside the other (within two margins: a branch leaving tangentially, as at a Y
+  // fork, shows as a separate line only once clear of the tape it leaves; a stem that stops at
+  // the tape it joins). Each meeting remembers its two lines.
+  struct Meeting {
+    Eigen::Vector2d point;
+    int a, b;
+  };
+  std::vector<Meeting> meetings;
+  const int n = static_cast<int>(lines.size());
+  auto within_evidence = [&](const DetectedLine& line, double s) {
+    return s >= line.s_min_m - margin_m && s <= line.s_max_m + margin_m;
+  };
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
       const DetectedLine& a = lines[i];
       const DetectedLine& b = lines[j];
       const std::optional<double> s_a =
           crossing(a.model, b.model, a.s_min_m - margin_m, a.s_max_m + margin_m);
       if (!s_a) continue;
       const Eigen::Vector2d point = a.model.point_at(*s_a);
-      const double s_b = b.model.arc_position(point);
-      if (s_b < b.s_min_m - margin_m || s_b > b.s_max_m + margin_m) continue;
-      crossings.push_back(point);
+      if (within_evidence(b, b.model.arc_position(point))) meetings.push_back({point, i, j});
     }
   }
-  if (crossings.empty()) return std::nullopt;
-  // Crossings within a margin of each other are one junction (tape laid in pieces crosses
-  // another tape in several nearby points); the one with most crossings, then nearest, wins.
-  Eigen::Vector2d point = crossings.front();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (i == j) continue;
+      const DetectedLine& a = lines[i];
+      const DetectedLine& b = lines[j];
+      for (const bool start : {true, false}) {
+        if (start ? a.open_start : a.open_end) continue;  // the tape goes on out of view
+        const std::optional<double> s_a =
+            start ? overlap_before(a.model, b.model, a.s_min_m, -1.0, margin_m)
+                  : overlap_before(a.model, b.model, a.s_max_m, 1.0, margin_m);
+        if (!s_a) continue;
+        const double s_b = b.model.arc_position(a.model.point_at(*s_a));
+        if (within_evidence(b, s_b)) meetings.push_back({b.model.point_at(s_b), i, j});
+      }
+    }
+  }
+  if (meetings.empty()) return std::nullopt;
+  // Meetings within a margin of each other are one junction (tape laid in pieces crosses
+  // another tape in several nearby points); the one with most meetings, then nearest, wins.
+  Eigen::Vector2d point = meetings.front().point;
+  std::vector<bool> involved(n, false);
   int most = 0;
-  for (const Eigen::Vector2d& candidate : crossings) {
+  for (const Meeting& candidate : meetings) {
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     int count = 0;
-    for (const Eigen::Vector2d& other : crossings) {
-      if ((other - candidate).norm() <= margin_m) {
-        sum += other;
+    std::vector<bool> lines_here(n, false);
+    for (const Meeting& other : meetings) {
+      if ((other.point - candidate.point).norm() <= margin_m) {
+        sum += other.point;
         ++count;
+        lines_here[other.a] = lines_here[other.b] = true;
       }
     }
     const Eigen::Vector2d centre = sum / count;
     if (count > most || (count == most && centre.norm() < point.norm())) {
       most = count;
       point = centre;
+      involved = lines_here;
     }
   }
   Junction junction;
   junction.point_m = point;
-  // Every line through the junction contributes the pieces of evidence leaving it.
-  for (int index = 0; index < static_cast<int>(lines.size()); ++index) {
+  // Every line meeting there contributes the pieces of evidence leaving the junction.
+  for (int index = 0; index < n; ++index) {
+    if (!involved[index]) continue;
     const DetectedLine& line = lines[index];
-    if (std::abs(line.model.signed_distance(point)) > margin_m) continue;
     const double s = line.model.arc_position(point);
-    if (s < line.s_min_m - margin_m || s > line.s_max_m + margin_m) continue;
     if (line.s_max_m - s >= (line.open_end ? min_open_branch_m : min_branch_m)) {
       junction.branches.push_back({index, heading_at(line.model, s), line.s_max_m - s});
     }
@@ -130,12 +172,38 @@ std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, do
   return junction;
 }
 
+void FollowHistory::update(const std::optional<double>& branch_heading,
+                           const std::optional<CurveModel>& line) {
+  if (branch_heading) {
+    branch_heading_rad = branch_heading;
+    frames_without_branches = 0;
+  } else if (++frames_without_branches > kForgetAfterFrames) {
+    branch_heading_rad.reset();
+  }
+  if (line) followed = line;
+}
+
 FollowedLine choose_line(const std::vector<DetectedLine>& lines,
                          const std::optional<Junction>& junction, BranchChoice choice,
-                         double max_turn_rad) {
+                         double max_turn_rad, const FollowHistory* history) {
   FollowedLine followed;
   if (lines.empty()) return followed;
-  // Without a junction: the most confident line.
+  constexpr double kHoldTolerance_rad = 0.5;
+  const bool holding = history && history->branch_heading_rad.has_value();
+  const double held_rad = holding ? *history->branch_heading_rad : 0.0;
+  // The score of leaving in direction h: nearness to the held branch, else the choice.
+  auto score_of = [&](double h, double offset_m) {
+    if (holding && std::abs(wrap_angle_rad(h - held_rad)) < kHoldTolerance_rad)
+      return 10.0 - std::abs(wrap_angle_rad(h - held_rad));
+    return choice == BranchChoice::kLeft    ? h
+           : choice == BranchChoice::kRight ? -h
+                                            : -std::abs(h) - std::abs(offset_m) / 0.05;
+  };
+  // A line followed as it is: in the direction it was followed in the frame before.
+  auto as_before = [&](const CurveModel& m) {
+    if (!history || !history->followed) return m;
+    return m.tangent().dot(history->followed->tangent()) >= 0.0 ? m : m.reversed();
+  };
   auto best_line = [&] {
     int best = 0;
     for (int i = 1; i < static_cast<int>(lines.size()); ++i) {
@@ -150,47 +218,55 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     if (lines.size() > 1) {
       double best_score = -std::numeric_limits<double>::infinity();
       for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
-        const double h = heading_at(lines[i].model, lines[i].s_min_m);
-        const double score = choice == BranchChoice::kLeft ? h
-                             : choice == BranchChoice::kRight
-                                 ? -h
-                                 : -std::abs(h) - std::abs(lines[i].model.e_d_m) / 0.05;
+        const CurveModel m = as_before(lines[i].model);
+        const double near_s = m.arc_position(lines[i].model.point_at(lines[i].s_min_m));
+        const double far_s = m.arc_position(lines[i].model.point_at(lines[i].s_max_m));
+        const double h = heading_at(m, std::min(near_s, far_s));
+        const double score = score_of(h, lines[i].model.e_d_m);
         if (score > best_score) {
           best_score = score;
           followed.line = i;
+          followed.branch_heading_rad = h;
         }
       }
     }
-    followed.model = lines[followed.line].model;
+    followed.model = as_before(lines[followed.line].model);
     return followed;
   }
   int chosen = -1;
   double best_score = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
     if (k == junction->incoming) continue;
-    const double h = junction->branches[k].heading_rad;
-    const double score = choice == BranchChoice::kLeft    ? h
-                         : choice == BranchChoice::kRight ? -h
-                                                          : -std::abs(h);
+    const double score = score_of(junction->branches[k].heading_rad, 0.0);
     if (score > best_score) {
       best_score = score;
       chosen = k;
     }
   }
   const Branch* branch = chosen >= 0 ? &junction->branches[chosen] : nullptr;
+  if (branch) followed.branch_heading_rad = branch->heading_rad;
+  // Line i oriented so that it leaves the junction in direction h.
+  auto leaving = [&](int i, double h) {
+    const CurveModel& m = lines[i].model;
+    const double s = m.arc_position(junction->point_m);
+    const double along = std::cos(wrap_angle_rad(heading_at(m, s) - h));
+    return along >= 0.0 ? m : m.reversed();
+  };
   if (branch && (std::abs(branch->heading_rad) <= max_turn_rad || junction->incoming < 0)) {
     // Follow the branch, in its direction away from the junction.
     followed.line = branch->line;
-    const CurveModel& m = lines[branch->line].model;
-    const double s = m.arc_position(junction->point_m);
-    const double along = std::cos(wrap_angle_rad(heading_at(m, s) - branch->heading_rad));
-    followed.model = along >= 0.0 ? m : m.reversed();
+    followed.model = leaving(branch->line, branch->heading_rad);
     return followed;
   }
-  // A sharp turn ahead: keep to the incoming line (oriented forward) until it is reached.
-  followed.line =
-      junction->incoming >= 0 ? junction->branches[junction->incoming].line : best_line();
-  followed.model = lines[followed.line].model;
+  // A sharp turn ahead: keep to the incoming line, towards the junction, until it is reached.
+  if (junction->incoming >= 0) {
+    const Branch& incoming = junction->branches[junction->incoming];
+    followed.line = incoming.line;
+    followed.model = leaving(incoming.line, wrap_angle_rad(incoming.heading_rad + M_PI));
+  } else {
+    followed.line = best_line();
+    followed.model = as_before(lines[followed.line].model);
+  }
   return followed;
 }
 

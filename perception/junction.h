@@ -29,25 +29,45 @@ struct Junction {
   int incoming = -1;  // index in branches of the one the vehicle arrives on, if any
 };
 
-// Where lines meet, if any pair crosses within their evidence (plus `margin_m`): crossings
-// within margin_m of each other are one junction (pieces of tape laid end to end); the
-// junction with most crossings (then the nearest) is returned, with the pieces of every line
-// through it that leave it. A branch counts when at least min_branch_m of evidence leaves the
-// point, or, where the evidence runs into the image border, min_open_branch_m.
+// Where lines meet, if any pair crosses within their evidence (plus `margin_m`, a tape width) or
+// one, continued for up to 0.15 m beyond an end of its evidence that is not at the image border,
+// overlaps the other there (a Y fork's branch, seen as a line of its own only once clear of the
+// tape it leaves; a stem stopping at the tape it joins): meetings within margin_m of each other are
+// one junction (pieces of tape laid end to end); the junction with most meetings (then the nearest)
+// is returned, with the pieces of the lines meeting there that leave it. A branch counts when at
+// least min_branch_m of evidence leaves the point, or, where the evidence runs into the image
+// border, min_open_branch_m.
 std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m,
                                       double min_branch_m, double min_open_branch_m);
+
+// What the frames before chose, to keep to it through a junction: the direction (vehicle frame)
+// of the branch chosen there, and the line followed in the last frame (oriented).
+struct FollowHistory {
+  std::optional<double> branch_heading_rad;
+  int frames_without_branches = 0;  // frames since one showed a junction or several lines
+  std::optional<CurveModel> followed;
+  // Record one frame's choice (followed: nullopt when no line was found).
+  void update(const std::optional<double>& branch_heading, const std::optional<CurveModel>& line);
+  static constexpr int kForgetAfterFrames = 5;  // the junction is behind: choose anew
+};
 
 // The line to follow and its direction: without a junction, the best line; at a junction the
 // outgoing branch the choice names (left: most counter-clockwise, right: most clockwise,
 // straight: nearest the vehicle's heading) when it leaves within max_turn_rad of straight
 // ahead; a sharper branch is taken once the vehicle gets there, so until then the incoming line
-// is followed. Returns an index into `lines` and the model oriented along the travel direction.
+// is followed. With a history, the branch chosen in the frames before is kept to while one
+// leaves within 0.5 rad of its direction (the choice decides once per junction, and a leg seen
+// in some frames only does not make the choice swing), and a line not chosen as a branch keeps
+// the direction it was followed in (no 180 deg flips of a line across the view). Returns an
+// index into `lines`, the model oriented along the travel direction and the chosen branch's
+// heading (when there was a choice to make).
 struct FollowedLine {
   int line = -1;
   CurveModel model;
+  std::optional<double> branch_heading_rad;
 };
 FollowedLine choose_line(const std::vector<DetectedLine>& lines,
                          const std::optional<Junction>& junction, BranchChoice choice,
-                         double max_turn_rad);
+                         double max_turn_rad, const FollowHistory* history = nullptr);
 
 }  // namespace agv::perception

@@ -127,18 +127,21 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
 }
 
 LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
-                                        LineDetection* details) const {
-  const LineMeasurement m = estimate_with_widths(frame, stamp_s, details);
+                                        LineDetection* details,
+                                        const FollowHistory* history) const {
+  const LineMeasurement m = estimate_with_widths(frame, stamp_s, details, history);
   if (m.line_found || !any_width_) return m;
   LineDetection any;
-  const LineMeasurement found = any_width_->estimate(frame, stamp_s, details ? &any : nullptr);
+  const LineMeasurement found =
+      any_width_->estimate(frame, stamp_s, details ? &any : nullptr, history);
   if (!found.line_found) return m;  // the reason the configured width gave
   if (details) *details = std::move(any);
   return found;
 }
 
 LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double stamp_s,
-                                                    LineDetection* details) const {
+                                                    LineDetection* details,
+                                                    const FollowHistory* history) const {
   LineDetection local;
   LineDetection& d = details ? *details : local;
   d = LineDetection{};
@@ -190,11 +193,12 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
   d.lines = extract_lines(d.chords, options_.lines, &rejections);
   if (d.lines.empty())
     return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
-  return measurement_of(d, frame, stamp_s);
+  return measurement_of(d, frame, stamp_s, history);
 }
 
 LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
-                                     const LineDetection& previous, LineDetection* details) const {
+                                     const LineDetection& previous, LineDetection* details,
+                                     const FollowHistory* history) const {
   LineDetection local;
   LineDetection& d = details ? *details : local;
   d = LineDetection{};
@@ -230,7 +234,7 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
       track_line(d.chords, prior.model, prior.width_m, lines, &rejections);
   if (!line) return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
   d.lines.push_back(std::move(*line));
-  return measurement_of(d, frame, stamp_s);
+  return measurement_of(d, frame, stamp_s, history);
 }
 
 void LineEstimator::add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const {
@@ -253,7 +257,7 @@ std::string LineEstimator::frame_problem(const cv::Mat& frame) const {
 }
 
 LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& frame,
-                                              double stamp_s) const {
+                                              double stamp_s, const FollowHistory* history) const {
   // Where the evidence of each line ends: at the image border the tape goes on unseen.
   const double border_px = 0.04 * std::min(frame.cols, frame.rows);
   auto near_border = [&](const Eigen::Vector2d& p) {
@@ -273,9 +277,10 @@ LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& f
     for (const DetectedLine& line : d.lines) width_m = std::max(width_m, line.width_m);
   d.junction = find_junction(d.lines, width_m, std::max(0.01, width_m), 0.6 * width_m);
   const FollowedLine followed =
-      choose_line(d.lines, d.junction, options_.branch, options_.max_branch_turn_rad);
+      choose_line(d.lines, d.junction, options_.branch, options_.max_branch_turn_rad, history);
   d.followed = followed.line;
   d.followed_model = followed.model;
+  d.branch_heading_rad = followed.branch_heading_rad;
   if (const auto near = near_model_if_different(d.chords, d.lines[followed.line], options_.lines)) {
     const bool same_way = near->tangent().dot(followed.model.tangent()) >= 0.0;
     d.followed_model = same_way ? *near : near->reversed();

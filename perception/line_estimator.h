@@ -30,10 +30,11 @@ struct LineDetection {
   std::optional<Junction> junction;  // where lines meet, if they do in view
   int followed = -1;                 // index in `lines` of the line reported
   CurveModel followed_model;         // that line, oriented along the travel direction
-  std::string rejected_because;      // why no line, when none
-  bool tracked = false;              // found from the frame before's line (LineEstimator::track)
-  ContrastAxis axis;                 // the colour axis the tape was found on
-  float floor_noise = 0.0f;          // robust noise of the floor's contrast on that axis
+  std::optional<double> branch_heading_rad;  // the branch chosen, where there was a choice
+  std::string rejected_because;              // why no line, when none
+  bool tracked = false;      // found from the frame before's line (LineEstimator::track)
+  ContrastAxis axis;         // the colour axis the tape was found on
+  float floor_noise = 0.0f;  // robust noise of the floor's contrast on that axis
 };
 
 // Finds the guide line(s) in a frame and reports the one to follow as (e_theta, e_d, curvature)
@@ -72,9 +73,10 @@ class LineEstimator {
   // Measurement of one frame taken at stamp_s (8-bit BGR or grey, the camera's size; any other
   // frame gives line_found = false with the reason in `details`). A configured tape width is a
   // hint: where it finds no line, the frame is searched again for tape of any width (its
-  // measured width is in the measurement; the caller can tell the user).
-  LineMeasurement estimate(const cv::Mat& frame, double stamp_s,
-                           LineDetection* details = nullptr) const;
+  // measured width is in the measurement; the caller can tell the user). `history` (optional):
+  // what the frames before followed, kept to through junctions (choose_line).
+  LineMeasurement estimate(const cv::Mat& frame, double stamp_s, LineDetection* details = nullptr,
+                           const FollowHistory* history = nullptr) const;
 
   // The same, for a frame that follows `previous` (a detection that found a line): the frame is
   // scanned only where the previous line, widened by a margin, predicts the tape, on the same
@@ -83,7 +85,8 @@ class LineEstimator {
   // the reason) when the tape is not where predicted, when another tape crosses the band (a
   // junction) or the evidence fails a check: the caller then runs estimate.
   LineMeasurement track(const cv::Mat& frame, double stamp_s, const LineDetection& previous,
-                        LineDetection* details = nullptr) const;
+                        LineDetection* details = nullptr,
+                        const FollowHistory* history = nullptr) const;
 
   const FloorMap& floor_map() const { return floor_map_; }
   const CameraModel& camera() const { return camera_; }
@@ -95,10 +98,11 @@ class LineEstimator {
   // Appends the edge pairs whose ends map to the floor, with their floor chords.
   void add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const;
   // From the lines found (d.lines not empty): junction, branch choice and the measurement.
-  LineMeasurement measurement_of(LineDetection& d, const cv::Mat& frame, double stamp_s) const;
+  LineMeasurement measurement_of(LineDetection& d, const cv::Mat& frame, double stamp_s,
+                                 const FollowHistory* history) const;
   // estimate() with the widths of this estimator only.
-  LineMeasurement estimate_with_widths(const cv::Mat& frame, double stamp_s,
-                                       LineDetection* details) const;
+  LineMeasurement estimate_with_widths(const cv::Mat& frame, double stamp_s, LineDetection* details,
+                                       const FollowHistory* history) const;
 
   CameraModel camera_;
   Options options_;

@@ -10,6 +10,7 @@ TrackingLineEstimator::TrackingLineEstimator(const CameraModel& camera,
 
 void TrackingLineEstimator::reset() {
   previous_.reset();
+  history_ = FollowHistory{};
   frames_since_search_ = 0;
 }
 
@@ -23,7 +24,7 @@ LineMeasurement TrackingLineEstimator::measure(const cv::Mat& frame, double stam
                          frames_since_search_ + 1 < std::max(1, options.search_every_frames);
   bool done = false;
   if (trackable) {
-    m = estimator_.track(frame, stamp_s, *previous_, &detection);
+    m = estimator_.track(frame, stamp_s, *previous_, &detection, &history_);
     done = m.line_found;
     if (done) {
       ++counts_.tracked;
@@ -33,10 +34,13 @@ LineMeasurement TrackingLineEstimator::measure(const cv::Mat& frame, double stam
     }
   }
   if (!done) {
-    m = estimator_.estimate(frame, stamp_s, &detection);
+    m = estimator_.estimate(frame, stamp_s, &detection, &history_);
     ++counts_.searched;
     frames_since_search_ = 0;
   }
+  history_.update(
+      detection.branch_heading_rad,
+      m.line_found ? std::optional<CurveModel>(detection.followed_model) : std::nullopt);
   if (details) *details = detection;
   if (m.line_found) {
     previous_ = std::move(detection);

@@ -13,7 +13,8 @@ namespace agv::perception {
 // exactly one line and no junction; otherwise, when tracking fails (the line jumped, a tape
 // crosses the band, a check fails), and at least every search_every_frames-th frame (to see
 // lines that come into view), the whole frame is searched (LineEstimator::estimate). Tracking
-// never reports a line the full search would reject: it applies the same checks.
+// never reports a line the full search would reject: it applies the same checks. What was
+// followed is kept to through junctions and across the view (FollowHistory, choose_line).
 class TrackingLineEstimator {
  public:
   TrackingLineEstimator(const CameraModel& camera, const LineEstimator::Options& options);
@@ -33,6 +34,7 @@ class TrackingLineEstimator {
  private:
   LineEstimator estimator_;
   std::optional<LineDetection> previous_;  // the last frame's detection, when it found a line
+  FollowHistory history_;                  // what was followed, kept to through junctions
   int frames_since_search_ = 0;
   Counts counts_;
 };

@@ -156,6 +156,7 @@ perception::LineEstimator::Options perception_options(const Scenario& scenario) 
   if (scenario.tape_color_hint) options.tape.color_bgr = scenario.tape.color_bgr;
   options.tracking = scenario.perception_tracking;
   options.search_every_frames = scenario.perception_search_every_frames;
+  options.branch = scenario.perception_branch;
   return options;
 }
 

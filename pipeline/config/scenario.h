@@ -122,8 +122,9 @@ struct Scenario {
   int perception_search_every_frames = 10;  // full-frame search at least this often
   bool perception_path_memory = true;       // e_d, e_theta from the remembered tape under the
                                             //   vehicle (false: carried back from the view)
-  OdometryNoise odometry;                   // the vehicle's wheel odometry
-  std::string camera_name;                  // where the camera came from
+  perception::BranchChoice perception_branch = perception::BranchChoice::kStraight;  // at forks
+  OdometryNoise odometry;   // the vehicle's wheel odometry
+  std::string camera_name;  // where the camera came from
   perception::CameraFile camera;
   // The mount the camera really has, when it differs from the camera file's (what a wrong or
   // outdated calibration does): frames are rendered with it, perception uses the file's.

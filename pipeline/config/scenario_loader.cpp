@@ -225,6 +225,11 @@ void read_perception(YamlReader& in, Scenario* s) {
   s->perception_search_every_frames =
       in.integer("perception.search_every_frames", s->perception_search_every_frames, 1, 100000);
   s->perception_path_memory = in.boolean("perception.path_memory", s->perception_path_memory);
+  s->perception_branch = in.choice("perception.branch", s->perception_branch,
+                                   std::vector<std::pair<std::string, perception::BranchChoice>>{
+                                       {"left", perception::BranchChoice::kLeft},
+                                       {"straight", perception::BranchChoice::kStraight},
+                                       {"right", perception::BranchChoice::kRight}});
 }
 
 void read_odometry(YamlReader& in, OdometryNoise* o) {

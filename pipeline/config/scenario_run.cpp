@@ -41,7 +41,10 @@ RunResult run_scenario(const Scenario& s, const Progress& progress, const FrameS
   const bool pose_input = s.controller.input == ControllerInput::kPose;
   const double frame_period_s = camera_period_s(s);
   SimulatedVehicle vehicle(make_plant(s), start_twist(s));
-  RenderedSource source(pose_input ? nullptr : make_renderer(s), vehicle,
+  // With pose input the frames are drawn only for a sink that takes them (a recording of a run
+  // steered by its true pose).
+  const bool render = !pose_input || static_cast<bool>(sink);
+  RenderedSource source(render ? make_renderer(s) : nullptr, vehicle,
                         PathTruth(s.path, s.start_s_m), WheelOdometry(s.odometry, s.seed),
                         frame_period_s, s.duration_s);
   const std::unique_ptr<Perceiver> perceiver = make_perceiver(s);

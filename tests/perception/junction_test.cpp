@@ -1,0 +1,145 @@
+#include "perception/junction.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "common/angles.h"
+
+namespace agv::perception {
+namespace {
+
+constexpr double kWidthM = 0.025;
+constexpr double kDeg = M_PI / 180.0;
+
+// A straight piece of tape seen from (x0, y0) to (x1, y1), vehicle frame, fitted direction
+// from the first point to the second; its ends inside the image.
+DetectedLine seen_line(double x0, double y0, double x1, double y1, double confidence = 0.9) {
+  const Eigen::Vector2d a(x0, y0), b(x1, y1);
+  const Eigen::Vector2d t = (b - a).normalized();
+  const Eigen::Vector2d n(-t.y(), t.x());
+  DetectedLine line;
+  line.model.heading_rad = std::atan2(t.y(), t.x());
+  line.model.e_d_m = -n.dot(a);  // the origin's signed distance, positive left of the line
+  line.s_min_m = line.model.arc_position(a);
+  line.s_max_m = line.model.arc_position(b);
+  line.width_m = kWidthM;
+  line.confidence = confidence;
+  return line;
+}
+
+std::optional<Junction> junction_of(const std::vector<DetectedLine>& lines) {
+  // As LineEstimator calls it: a tape width of margin, branches of a width (0.6 at the border).
+  return find_junction(lines, kWidthM, kWidthM, 0.6 * kWidthM);
+}
+
+// A Y fork: the tape runs straight on (x axis, 0.2-0.4 m ahead) and a branch leaves it to the
+// left at 25 deg, seen as a line of its own only from 30 mm beside it. Its line continued back
+// overlaps the straight tape within 41 mm, but crosses its centre line 71 mm back, more than
+// a width beyond the evidence: only the overlap rule finds this junction.
+std::vector<DetectedLine> y_fork() {
+  const double h = 25 * kDeg;
+  return {seen_line(0.2, 0.0, 0.4, 0.0),
+          seen_line(0.33, 0.03, 0.33 + 0.08 * std::cos(h), 0.03 + 0.08 * std::sin(h))};
+}
+
+TEST(Junction, AYForkWhoseBranchIsSeenOnceClearOfTheTape) {
+  const std::optional<Junction> junction = junction_of(y_fork());
+  ASSERT_TRUE(junction.has_value());
+  ASSERT_EQ(junction->branches.size(), 3u);  // back to the vehicle, straight on, the branch
+  ASSERT_GE(junction->incoming, 0);
+  EXPECT_NEAR(std::abs(junction->branches[junction->incoming].heading_rad), M_PI, 0.01);
+  // The junction lies on the straight tape, where the branch's line reaches it (within the
+  // 12.5 mm overlap the rule accepts: 0.33 - 0.0175 / tan(25 deg) = 0.292 m).
+  EXPECT_NEAR(junction->point_m.y(), 0.0, 1e-9);
+  EXPECT_NEAR(junction->point_m.x(), 0.33 - 0.0175 / std::tan(25 * kDeg), 0.003);
+}
+
+TEST(Junction, ParallelTapesDoNotMeet) {
+  // Two tapes side by side, 40 mm apart between centres (15 mm of floor between them).
+  EXPECT_FALSE(junction_of({seen_line(0.2, 0.0, 0.4, 0.0), seen_line(0.25, 0.04, 0.4, 0.04)}));
+}
+
+TEST(Junction, TheChoiceNamesTheBranch) {
+  const std::vector<DetectedLine> lines = y_fork();
+  const std::optional<Junction> junction = junction_of(lines);
+  ASSERT_TRUE(junction);
+  const FollowedLine left = choose_line(lines, junction, BranchChoice::kLeft, 1.05);
+  EXPECT_EQ(left.line, 1);
+  EXPECT_NEAR(left.model.heading_rad, 25 * kDeg, 1e-6);
+  ASSERT_TRUE(left.branch_heading_rad);
+  EXPECT_NEAR(*left.branch_heading_rad, 25 * kDeg, 1e-6);
+  const FollowedLine straight = choose_line(lines, junction, BranchChoice::kStraight, 1.05);
+  EXPECT_EQ(straight.line, 0);
+  EXPECT_NEAR(straight.model.heading_rad, 0.0, 1e-6);
+  // Right: the most clockwise way out is straight on (the branch leaves to the left).
+  EXPECT_EQ(choose_line(lines, junction, BranchChoice::kRight, 1.05).line, 0);
+}
+
+TEST(Junction, TheBranchChosenBeforeIsKeptToThroughTheJunction) {
+  // A V of two legs ahead, at +40 and -30 deg from the vehicle's heading: "straight" picks the
+  // nearer to straight ahead (-30).
+  const std::vector<DetectedLine> v = {
+      seen_line(0.2, 0.0, 0.3, 0.0),
+      seen_line(0.3, 0.0, 0.3 + 0.1 * std::cos(40 * kDeg), 0.1 * std::sin(40 * kDeg)),
+      seen_line(0.3, 0.0, 0.3 + 0.1 * std::cos(-30 * kDeg), 0.1 * std::sin(-30 * kDeg))};
+  const std::optional<Junction> junction = junction_of(v);
+  ASSERT_TRUE(junction);
+  const FollowedLine first = choose_line(v, junction, BranchChoice::kStraight, 1.05);
+  EXPECT_EQ(first.line, 2);
+  FollowHistory history;
+  history.update(first.branch_heading_rad, first.model);
+
+  // Frames later the vehicle has turned 20 deg left on its way (the legs now at +20 and -50
+  // deg): the other leg is now nearer straight ahead, but the choice must not swing.
+  auto turned = [&](double turn_rad) {
+    std::vector<DetectedLine> out;
+    const double c = std::cos(-turn_rad), s = std::sin(-turn_rad);
+    for (const DetectedLine& line : v) {
+      const Eigen::Vector2d a = line.model.point_at(line.s_min_m);
+      const Eigen::Vector2d b = line.model.point_at(line.s_max_m);
+      out.push_back(seen_line(c * a.x() - s * a.y(), s * a.x() + c * a.y(), c * b.x() - s * b.y(),
+                              s * b.x() + c * b.y()));
+    }
+    return out;
+  };
+  const std::vector<DetectedLine> far = turned(20 * kDeg);  // legs at +20 and -50 deg
+  const std::optional<Junction> far_junction = junction_of(far);
+  ASSERT_TRUE(far_junction);
+  EXPECT_EQ(choose_line(far, far_junction, BranchChoice::kStraight, 1.05).line, 1)
+      << "without history: the leg nearest straight ahead";
+  const FollowedLine held = choose_line(far, far_junction, BranchChoice::kStraight, 1.05, &history);
+  EXPECT_EQ(held.line, 2) << "with history: the leg chosen before (-30 deg then, -50 now)";
+  ASSERT_TRUE(held.branch_heading_rad);
+  EXPECT_NEAR(*held.branch_heading_rad, -50 * kDeg, 1e-6);
+}
+
+TEST(Junction, TheHeldBranchIsForgottenOnceTheJunctionIsBehind) {
+  FollowHistory history;
+  history.update(0.5, CurveModel{});
+  for (int frame = 0; frame < FollowHistory::kForgetAfterFrames; ++frame) {
+    history.update(std::nullopt, CurveModel{});
+    EXPECT_TRUE(history.branch_heading_rad) << frame;
+  }
+  history.update(std::nullopt, CurveModel{});
+  EXPECT_FALSE(history.branch_heading_rad);
+}
+
+TEST(Junction, ALineKeepsTheDirectionItWasFollowedIn) {
+  // A tape across the view (an L corner's leg once the vehicle is at the corner): its fitted
+  // direction may come either way round from one frame to the next.
+  const DetectedLine across = seen_line(0.3, 0.1, 0.3, -0.1);  // fitted pointing right (-90)
+  FollowHistory history;
+  CurveModel before;
+  before.heading_rad = 88 * kDeg;  // followed to the left the frame before
+  history.update(std::nullopt, before);
+  const FollowedLine followed =
+      choose_line({across}, std::nullopt, BranchChoice::kStraight, 1.05, &history);
+  EXPECT_NEAR(std::abs(wrap_angle_rad(followed.model.heading_rad - 90 * kDeg)), 0.0, 1e-6);
+  EXPECT_NEAR(choose_line({across}, std::nullopt, BranchChoice::kStraight, 1.05).model.heading_rad,
+              -90 * kDeg, 1e-6)
+      << "without history: as fitted";
+}
+
+}  // namespace
+}  // namespace agv::perception
