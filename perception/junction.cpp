@@ -133,21 +133,31 @@ std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, do
     if (!involved[index]) continue;
     const DetectedLine& line = lines[index];
     const double s = line.model.arc_position(point);
-    if (line.s_max_m - s >= (line.open_end ? min_open_branch_m : min_branch_m)) {
-      junction.branches.push_back({index, heading_at(line.model, s), line.s_max_m - s});
-    }
-    if (s - line.s_min_m >= (line.open_start ? min_open_branch_m : min_branch_m)) {
-      junction.branches.push_back(
-          {index, wrap_angle_rad(heading_at(line.model, s) + M_PI), s - line.s_min_m});
-    }
+    // A branch's direction: from the junction to where its evidence ends (at a Y fork the
+    // branch leaves tangentially: its tangent at the junction is the tape's it leaves).
+    auto branch_to = [&](double s_end) {
+      const Eigen::Vector2d end = line.model.point_at(s_end);
+      const Eigen::Vector2d way = end - point;
+      return Branch{index, std::atan2(way.y(), way.x()), std::abs(s_end - s), end};
+    };
+    if (line.s_max_m - s >= (line.open_end ? min_open_branch_m : min_branch_m))
+      junction.branches.push_back(branch_to(line.s_max_m));
+    if (s - line.s_min_m >= (line.open_start ? min_open_branch_m : min_branch_m))
+      junction.branches.push_back(branch_to(line.s_min_m));
   }
-  // Two pieces leaving in nearly the same direction are one branch: keep the longer.
+  // Two pieces of one tape leaving the same way (tape laid in pieces) are one branch: keep
+  // the longer. Pieces of two tapes (a fork) end apart, however near their directions.
   constexpr double kSameDirection_rad = 0.35;
   std::vector<Branch> merged;
   for (const Branch& branch : junction.branches) {
     bool absorbed = false;
     for (Branch& kept : merged) {
-      if (std::abs(wrap_angle_rad(kept.heading_rad - branch.heading_rad)) < kSameDirection_rad) {
+      const Branch& shorter = branch.length_m < kept.length_m ? branch : kept;
+      const Branch& longer = branch.length_m < kept.length_m ? kept : branch;
+      const bool one_tape =
+          std::abs(lines[longer.line].model.signed_distance(shorter.end_m)) < 0.3 * margin_m;
+      if (std::abs(wrap_angle_rad(kept.heading_rad - branch.heading_rad)) < kSameDirection_rad &&
+          one_tape) {
         if (branch.length_m > kept.length_m) kept = branch;
         absorbed = true;
         break;
@@ -191,13 +201,17 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   constexpr double kHoldTolerance_rad = 0.5;
   const bool holding = history && history->branch_heading_rad.has_value();
   const double held_rad = holding ? *history->branch_heading_rad : 0.0;
-  // The score of leaving in direction h: nearness to the held branch, else the choice.
+  // The score of leaving in direction h: a way near the held branch first (of those, the
+  // leftmost for left, the rightmost for right, the nearest the held one for straight: at a Y
+  // fork the first frames see both ways nearly straight ahead), then the choice.
   auto score_of = [&](double h, double offset_m) {
-    if (holding && std::abs(wrap_angle_rad(h - held_rad)) < kHoldTolerance_rad)
-      return 10.0 - std::abs(wrap_angle_rad(h - held_rad));
-    return choice == BranchChoice::kLeft    ? h
-           : choice == BranchChoice::kRight ? -h
-                                            : -std::abs(h) - std::abs(offset_m) / 0.05;
+    const double from_held = std::abs(wrap_angle_rad(h - held_rad));
+    const double held_bonus = holding && from_held < kHoldTolerance_rad ? 10.0 : 0.0;
+    if (held_bonus > 0.0 && choice == BranchChoice::kStraight) return held_bonus - from_held;
+    return held_bonus + (choice == BranchChoice::kLeft ? h
+                         : choice == BranchChoice::kRight
+                             ? -h
+                             : -std::abs(h) - std::abs(offset_m) / 0.05);
   };
   // A line followed as it is: in the direction it was followed in the frame before.
   auto as_before = [&](const CurveModel& m) {

@@ -18,8 +18,9 @@ const char* branch_choice_name(BranchChoice choice);
 // A piece of a line leaving a junction.
 struct Branch {
   int line = 0;
-  double heading_rad = 0.0;  // direction away from the junction, vehicle frame
+  double heading_rad = 0.0;  // direction away from the junction to its end, vehicle frame
   double length_m = 0.0;     // evidence along it from the junction
+  Eigen::Vector2d end_m = Eigen::Vector2d::Zero();  // where its evidence ends
 };
 
 // Where two lines meet within their evidence, and the branches leaving that point.

@@ -233,6 +233,10 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
   std::optional<DetectedLine> line =
       track_line(d.chords, prior.model, prior.width_m, lines, &rejections);
   if (!line) return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
+  // Many chords with one edge only on the tape: another tape runs into it (a fork's branch
+  // still overlapping it), which only the full search sees.
+  if (10 * line->clean_chords.size() < 7 * line->chords.size())
+    return not_found(stamp_s, "another tape joins or leaves the tracked one", &d);
   d.lines.push_back(std::move(*line));
   return measurement_of(d, frame, stamp_s, history);
 }

@@ -225,6 +225,20 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   m->curvature_ahead_1_m = ahead.back();
 }
 
+bool PathMemory::on_another_line(const LineDetection& detection, const Eigen::Vector2d& p) const {
+  const DetectedLine& followed = detection.lines[detection.followed];
+  if (std::abs(followed.model.prepared().signed_distance(p)) < 0.5 * followed.width_m) return false;
+  for (size_t other = 0; other < detection.lines.size(); ++other) {
+    if (static_cast<int>(other) == detection.followed) continue;
+    const DetectedLine& line = detection.lines[other];
+    const double s = line.model.arc_position(p);
+    if (s >= line.s_min_m && s <= line.s_max_m &&
+        std::abs(line.model.prepared().signed_distance(p)) < 0.5 * line.width_m)
+      return true;
+  }
+  return false;
+}
+
 std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detection) {
   // The centres of the chords with both edges on the followed tape, about as wide as the tape
   // has been (where another tape leaves or meets it, a chord from this tape's edge to the
@@ -292,6 +306,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   for (size_t i = 0; i < points_.size() && i < in_vehicle.size(); ++i) {
     if (in_vehicle[i].x() < -options_.keep_behind_m) continue;
     if (points_[i].frame <= frame_ - options_.keep_frames) continue;
+    if (on_another_line(detection, in_vehicle[i])) continue;
     kept.push_back(points_[i]);
   }
   points_ = std::move(kept);
@@ -301,7 +316,8 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
     points_.push_back({vehicle_.transform(centre), frame_});
     in_vehicle.push_back(centre);
   }
-  if (std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle)) {
+  std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
+  if (m) {
     add_preview(in_vehicle, &*m);
     return *m;
   }

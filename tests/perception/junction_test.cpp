@@ -67,8 +67,10 @@ TEST(Junction, TheChoiceNamesTheBranch) {
   const FollowedLine left = choose_line(lines, junction, BranchChoice::kLeft, 1.05);
   EXPECT_EQ(left.line, 1);
   EXPECT_NEAR(left.model.heading_rad, 25 * kDeg, 1e-6);
+  // The branch's direction: from the junction to where its evidence ends.
+  const Eigen::Vector2d way = lines[1].model.point_at(lines[1].s_max_m) - junction->point_m;
   ASSERT_TRUE(left.branch_heading_rad);
-  EXPECT_NEAR(*left.branch_heading_rad, 25 * kDeg, 1e-6);
+  EXPECT_NEAR(*left.branch_heading_rad, std::atan2(way.y(), way.x()), 1e-6);
   const FollowedLine straight = choose_line(lines, junction, BranchChoice::kStraight, 1.05);
   EXPECT_EQ(straight.line, 0);
   EXPECT_NEAR(straight.model.heading_rad, 0.0, 1e-6);
