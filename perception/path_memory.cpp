@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/angles.h"
 #include "perception/joined_arcs_fit.h"
 
 namespace agv::perception {
@@ -48,6 +49,7 @@ void PathMemory::reset() {
   tape_width_m_ = 0.0;
   correction_ = Pose2{};
   last_odometry_.reset();
+  tape_heading_rad_.reset();
 }
 
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
@@ -292,8 +294,8 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   last_odometry_ = odometry;
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
-  if (!in_view.line_found || detection.followed < 0 ||
-      detection.followed >= static_cast<int>(detection.lines.size()))
+  if (!in_view.line_found) return remembered_only(in_view);
+  if (detection.followed < 0 || detection.followed >= static_cast<int>(detection.lines.size()))
     return in_view;
 
   std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
@@ -319,9 +321,44 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (m) {
     add_preview(in_vehicle, &*m);
+    tape_heading_rad_ = vehicle_.yaw_rad - m->e_theta_rad;
+    turns_out_of_view_ = turns_out_of_view(detection);
     return *m;
   }
+  tape_heading_rad_.reset();
   return carried_back;
+}
+
+bool PathMemory::turns_out_of_view(const LineDetection& detection) {
+  // The followed tape's direction where its evidence ends farthest along the travel direction.
+  const DetectedLine& line = detection.lines[detection.followed];
+  const CurveModel& travel = detection.followed_model;
+  const double s_end = std::max(travel.arc_position(line.model.point_at(line.s_min_m)),
+                                travel.arc_position(line.model.point_at(line.s_max_m)));
+  const Eigen::Vector2d t = travel.tangent_at(s_end);
+  return std::abs(std::atan2(t.y(), t.x())) > M_PI / 4.0;
+}
+
+LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
+  // No tape in view, the camera (ahead of the vehicle) having passed a corner: the tape last seen
+  // turned out of the view by more than 45 deg. The remembered tape under the vehicle, while it
+  // reaches both sides of the origin. Otherwise (a covered lens, a gap, the tape's end) the line
+  // is lost.
+  if (!tape_heading_rad_ || !turns_out_of_view_ || points_.empty()) return in_view;
+  LineMeasurement guess = in_view;
+  guess.e_theta_rad = wrap_angle_rad(vehicle_.yaw_rad - *tape_heading_rad_);
+  std::optional<LineMeasurement> m = at_origin(guess, points_in_vehicle_frame());
+  if (!m) {
+    tape_heading_rad_.reset();
+    return in_view;
+  }
+  m->line_found = true;
+  m->remembered_only = true;
+  m->lines_seen = 0;
+  m->confidence = 0.5;  // no evidence in this frame
+  m->points_used = 0;
+  tape_heading_rad_ = vehicle_.yaw_rad - m->e_theta_rad;
+  return *m;
 }
 
 }  // namespace agv::perception

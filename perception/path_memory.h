@@ -87,6 +87,12 @@ class PathMemory {
                    OdometryKind kind, std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
+  // A frame without tape in view after tape that turned out of the view: the errors from the
+  // remembered tape alone, where it lies under the vehicle; else `in_view` as it is.
+  LineMeasurement remembered_only(const LineMeasurement& in_view);
+  // Whether the followed tape turns away by more than 45 deg from the vehicle's heading where
+  // its evidence ends farthest ahead (a corner the camera is passing).
+  static bool turns_out_of_view(const LineDetection& detection);
   // Where the curvature of the tape ahead of the origin changes, and to what (m's preview
   // fields), from local fits along the remembered and seen tape.
   void add_preview(const std::vector<Eigen::Vector2d>& in_vehicle, LineMeasurement* m) const;
@@ -97,7 +103,9 @@ class PathMemory {
   std::optional<Pose2> last_odometry_;
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
-  double tape_width_m_ = 0.0;  // the width of the evidence remembered (0: none yet)
+  double tape_width_m_ = 0.0;               // the width of the evidence remembered (0: none yet)
+  std::optional<double> tape_heading_rad_;  // the tape's direction at the origin, memory frame
+  bool turns_out_of_view_ = false;          // the tape last seen turned out of the view
 };
 
 }  // namespace agv::perception

@@ -124,10 +124,13 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
   j["frames_tracked"] = result.perception_counts.tracked;
   j["frames_searched"] = result.perception_counts.searched;
   j["odometry"] = result.odometry_source;
-  int extrapolated = 0;
-  for (const pipeline::FrameRecord& frame : result.frames)
+  int extrapolated = 0, remembered_only = 0;
+  for (const pipeline::FrameRecord& frame : result.frames) {
     extrapolated += frame.measurement.line_found && frame.measurement.extrapolated ? 1 : 0;
+    remembered_only += frame.measurement.line_found && frame.measurement.remembered_only ? 1 : 0;
+  }
   j["frames_extrapolated"] = extrapolated;
+  j["frames_remembered_only"] = remembered_only;
   // The tape's width as measured, and the camera file's (a hint): when the tape seen is
   // consistently other than the hint, say so once.
   const std::optional<double> configured_m = setup.opened.camera.tape_width_m;

@@ -124,6 +124,7 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
       continue;
     }
     if (f.measurement.extrapolated) ++m.frames_extrapolated;
+    if (f.measurement.remembered_only) ++m.frames_remembered_only;
     if (!f.truth) continue;
     perception_d.push_back(f.measurement.e_d_m - f.truth->e_d_m);
     perception_theta.push_back(f.measurement.e_theta_rad - f.truth->e_theta_rad);
@@ -148,6 +149,7 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["frames"] = m.frames;
   j["frames_lost"] = m.frames_lost;
   j["frames_extrapolated"] = m.frames_extrapolated;
+  j["frames_remembered_only"] = m.frames_remembered_only;
   j["odometry"] = run.odometry_source;
   j["perception_rms_e_d_m"] = optional_json(m.perception_rms_e_d_m);
   j["perception_rms_e_theta_rad"] = optional_json(m.perception_rms_e_theta_rad);

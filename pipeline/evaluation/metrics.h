@@ -24,8 +24,9 @@ struct RunMetrics {
   int limit_violations = 0;
   int frames = 0;
   int frames_lost = 0;
-  int frames_extrapolated = 0;  // lines carried back from the view: no remembered tape under
-                                //   the vehicle yet
+  int frames_extrapolated = 0;     // lines carried back from the view: no remembered tape under
+                                   //   the vehicle yet
+  int frames_remembered_only = 0;  // no tape in view: the remembered tape under the vehicle
   std::optional<double> perception_rms_e_d_m;
   std::optional<double> perception_rms_e_theta_rad;
   double coverage_area_m2 = 0.0;  // seed 002: front and rear wheel tracks against the path

@@ -74,7 +74,7 @@ void write_trace_csv(std::ostream& out, const RunResult& run) {
 void write_frames_csv(std::ostream& out, const RunResult& run) {
   out << "index,t_s,true_e_theta_rad,true_e_d_m,line_found,e_theta_rad,e_d_m,confidence,points_"
          "used,tape_width_m,curvature_1_m,extrapolated,curvature_change_m,curvature_ahead_1_m,"
-         "no_line_reason\n";
+         "no_line_reason,remembered_only\n";
   out << std::setprecision(9);
   for (const FrameRecord& f : run.frames) {
     const LineMeasurement& m = f.measurement;
@@ -89,12 +89,13 @@ void write_frames_csv(std::ostream& out, const RunResult& run) {
       out << m.e_theta_rad << ',' << m.e_d_m << ',' << m.confidence << ',' << m.points_used << ','
           << m.tape_width_m << ',' << m.curvature_1_m << ',' << (m.extrapolated ? 1 : 0) << ',';
       if (std::isfinite(m.curvature_change_m)) {
-        out << m.curvature_change_m << ',' << m.curvature_ahead_1_m << ",\n";
+        out << m.curvature_change_m << ',' << m.curvature_ahead_1_m << ",,";
       } else {
-        out << ",,\n";
+        out << ",,,";
       }
+      out << (m.remembered_only ? 1 : 0) << '\n';
     } else {
-      out << ",,0,0,,,0,,," << without_commas(f.bad ? f.problem : f.no_line_reason) << '\n';
+      out << ",,0,0,,,0,,," << without_commas(f.bad ? f.problem : f.no_line_reason) << ",0\n";
     }
   }
 }
@@ -103,7 +104,7 @@ void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& f
                             bool with_truth) {
   out << "index,t_s,line_found,e_theta_rad,e_d_m,curvature_1_m,confidence,tape_width_m,"
          "no_line_reason,points_used,lines_seen,junction_ahead,bad,source,perceive_ms,extrapolated,"
-         "curvature_change_m,curvature_ahead_1_m";
+         "curvature_change_m,curvature_ahead_1_m,remembered_only";
   if (with_truth) out << ",true_e_theta_rad,true_e_d_m";
   out << '\n' << std::setprecision(9);
   for (const FrameRecord& f : frames) {
@@ -124,6 +125,7 @@ void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& f
     } else {
       out << ',';
     }
+    out << ',' << (m.line_found && m.remembered_only ? 1 : 0);
     if (with_truth) {
       if (f.truth) {
         out << ',' << f.truth->e_theta_rad << ',' << f.truth->e_d_m;
