@@ -1,5 +1,8 @@
 #include "pipeline/camera_stage.h"
 
+#include <Eigen/Core>
+#include <cmath>
+
 namespace agv::pipeline {
 namespace {
 
@@ -50,6 +53,16 @@ bool CameraStage::step() {
   record.measurement = perceiver_.measure(*frame, &detection);
   record.perceive_s = seconds_between(t1, Clock::now());
   if (!record.measurement.line_found) record.no_line_reason = detection.rejected_because;
+  if (detection.junction) {
+    // The ways out: every branch but those pointing back at the vehicle (the incoming one, and
+    // pieces of the tapes behind the junction).
+    const Eigen::Vector2d towards = detection.junction->point_m.normalized();
+    for (const perception::Branch& branch : detection.junction->branches) {
+      const Eigen::Vector2d way(std::cos(branch.heading_rad), std::sin(branch.heading_rad));
+      if (way.dot(towards) > -0.5) record.legs_rad.push_back(branch.heading_rad);
+    }
+  }
+  if (record.measurement.line_found) record.chosen_leg_rad = detection.branch_heading_rad;
   queue_.push({record.measurement, record.index, frame->t_s + options_.latency_s},
               options_.push_timeout);
   records_.push_back(record);

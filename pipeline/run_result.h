@@ -55,7 +55,11 @@ struct FrameRecord {
   std::optional<control::TrackingError> truth;  // the frame's true errors, if the source knows
   LineMeasurement measurement;
   std::string no_line_reason;  // why no line was found (when perception's details were kept)
-  bool bad = false;            // could not be used (reason in `problem`): no measurement was sent
+  // Where tapes meet in view: the direction (vehicle frame) of every way leaving the junction
+  // away from the vehicle, and of the way chosen (perception's branch choice), if any.
+  std::vector<double> legs_rad;
+  std::optional<double> chosen_leg_rad;
+  bool bad = false;  // could not be used (reason in `problem`): no measurement was sent
   std::string problem;
   double source_s = 0.0;    // time to get the frame: render, read or decode
   double perceive_s = 0.0;  // time to measure it

@@ -4,6 +4,8 @@
 #include <iomanip>
 #include <variant>
 
+#include "common/angles.h"
+
 namespace agv::pipeline {
 
 namespace {
@@ -71,10 +73,28 @@ void write_trace_csv(std::ostream& out, const RunResult& run) {
   }
 }
 
+namespace {
+
+// Degrees to a tenth, without "-0".
+double tenths_deg(double angle_rad) {
+  return std::round(10.0 * rad_to_deg(angle_rad)) / 10.0 + 0.0;
+}
+
+// ",legs_deg,chosen_leg_deg": the junction's ways out, ';'-separated, in degrees (left positive).
+void write_legs(std::ostream& out, const FrameRecord& f) {
+  out << ',';
+  for (size_t k = 0; k < f.legs_rad.size(); ++k)
+    out << (k > 0 ? ";" : "") << tenths_deg(f.legs_rad[k]);
+  out << ',';
+  if (f.chosen_leg_rad) out << tenths_deg(*f.chosen_leg_rad);
+}
+
+}  // namespace
+
 void write_frames_csv(std::ostream& out, const RunResult& run) {
   out << "index,t_s,true_e_theta_rad,true_e_d_m,line_found,e_theta_rad,e_d_m,confidence,points_"
          "used,tape_width_m,curvature_1_m,extrapolated,curvature_change_m,curvature_ahead_1_m,"
-         "no_line_reason,remembered_only\n";
+         "no_line_reason,remembered_only,legs_deg,chosen_leg_deg\n";
   out << std::setprecision(9);
   for (const FrameRecord& f : run.frames) {
     const LineMeasurement& m = f.measurement;
@@ -93,10 +113,12 @@ void write_frames_csv(std::ostream& out, const RunResult& run) {
       } else {
         out << ",,,";
       }
-      out << (m.remembered_only ? 1 : 0) << '\n';
+      out << (m.remembered_only ? 1 : 0);
     } else {
-      out << ",,0,0,,,0,,," << without_commas(f.bad ? f.problem : f.no_line_reason) << ",0\n";
+      out << ",,0,0,,,0,,," << without_commas(f.bad ? f.problem : f.no_line_reason) << ",0";
     }
+    write_legs(out, f);
+    out << '\n';
   }
 }
 
@@ -104,7 +126,7 @@ void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& f
                             bool with_truth) {
   out << "index,t_s,line_found,e_theta_rad,e_d_m,curvature_1_m,confidence,tape_width_m,"
          "no_line_reason,points_used,lines_seen,junction_ahead,bad,source,perceive_ms,extrapolated,"
-         "curvature_change_m,curvature_ahead_1_m,remembered_only";
+         "curvature_change_m,curvature_ahead_1_m,remembered_only,legs_deg,chosen_leg_deg";
   if (with_truth) out << ",true_e_theta_rad,true_e_d_m";
   out << '\n' << std::setprecision(9);
   for (const FrameRecord& f : frames) {
@@ -126,6 +148,7 @@ void write_measurements_csv(std::ostream& out, const std::vector<FrameRecord>& f
       out << ',';
     }
     out << ',' << (m.line_found && m.remembered_only ? 1 : 0);
+    write_legs(out, f);
     if (with_truth) {
       if (f.truth) {
         out << ',' << f.truth->e_theta_rad << ',' << f.truth->e_d_m;
