@@ -62,8 +62,8 @@ const char* branch_choice_name(BranchChoice choice) {
 
 std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, double margin_m,
                                       double min_branch_m, double min_open_branch_m) {
-  // Where pairs of lines meet within their evidence: where they cross, or where the evidence of
-  // one ends beside the other (within two margins: a branch leaving tangentially, as at a Y
+  // Where pairs of lines meet within their evidence: where they cross, or where one, continued
+  // beyond an end of its evidence, overlaps the other (a branch leaving tangentially, as at a Y
   // fork, shows as a separate line only once clear of the tape it leaves; a stem that stops at
   // the tape it joins). Each meeting remembers its two lines.
   struct Meeting {

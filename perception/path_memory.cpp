@@ -227,18 +227,25 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   m->curvature_ahead_1_m = ahead.back();
 }
 
-bool PathMemory::on_another_line(const LineDetection& detection, const Eigen::Vector2d& p) const {
+std::vector<bool> PathMemory::on_other_lines(const LineDetection& detection,
+                                             const std::vector<Eigen::Vector2d>& points) {
+  std::vector<bool> on_other(points.size(), false);
+  if (detection.lines.size() < 2) return on_other;
+  std::vector<CurveModel::Prepared> curves;  // prepared once for all the points
+  for (const DetectedLine& line : detection.lines) curves.push_back(line.model.prepared());
   const DetectedLine& followed = detection.lines[detection.followed];
-  if (std::abs(followed.model.prepared().signed_distance(p)) < 0.5 * followed.width_m) return false;
-  for (size_t other = 0; other < detection.lines.size(); ++other) {
-    if (static_cast<int>(other) == detection.followed) continue;
-    const DetectedLine& line = detection.lines[other];
-    const double s = line.model.arc_position(p);
-    if (s >= line.s_min_m && s <= line.s_max_m &&
-        std::abs(line.model.prepared().signed_distance(p)) < 0.5 * line.width_m)
-      return true;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector2d& p = points[i];
+    if (std::abs(curves[detection.followed].signed_distance(p)) < 0.5 * followed.width_m) continue;
+    for (size_t other = 0; other < detection.lines.size() && !on_other[i]; ++other) {
+      if (static_cast<int>(other) == detection.followed) continue;
+      const DetectedLine& line = detection.lines[other];
+      const double s = line.model.arc_position(p);
+      on_other[i] = s >= line.s_min_m && s <= line.s_max_m &&
+                    std::abs(curves[other].signed_distance(p)) < 0.5 * line.width_m;
+    }
   }
-  return false;
+  return on_other;
 }
 
 std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detection) {
@@ -305,10 +312,11 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
 
   // Keep what is not too far behind and not too old; add this frame's evidence.
   std::vector<Point> kept;
+  const std::vector<bool> on_other = on_other_lines(detection, in_vehicle);
   for (size_t i = 0; i < points_.size() && i < in_vehicle.size(); ++i) {
     if (in_vehicle[i].x() < -options_.keep_behind_m) continue;
     if (points_[i].frame <= frame_ - options_.keep_frames) continue;
-    if (on_another_line(detection, in_vehicle[i])) continue;
+    if (on_other[i]) continue;
     kept.push_back(points_[i]);
   }
   points_ = std::move(kept);

@@ -80,9 +80,10 @@ class PathMemory {
     int frame = 0;      // which frame saw it
   };
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
-  // Whether p (vehicle frame) lies on a line in view other than the followed one, and not on
-  // that: tape remembered there is the way not taken at a fork (forgotten).
-  bool on_another_line(const LineDetection& detection, const Eigen::Vector2d& p) const;
+  // For each point (vehicle frame): whether it lies on a line in view other than the followed
+  // one, and not on that: tape remembered there is the way not taken at a fork (forgotten).
+  static std::vector<bool> on_other_lines(const LineDetection& detection,
+                                          const std::vector<Eigen::Vector2d>& points);
   void register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
                    OdometryKind kind, std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
