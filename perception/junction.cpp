@@ -12,8 +12,8 @@ namespace {
 
 // Direction of a curve at arc position s.
 double heading_at(const CurveModel& m, double s) {
-  const Eigen::Vector2d d = m.point_at(s + 1e-4) - m.point_at(s - 1e-4);
-  return std::atan2(d.y(), d.x());
+  const Eigen::Vector2d t = m.tangent_at(s);
+  return std::atan2(t.y(), t.x());
 }
 
 // Arc position on `a` where it crosses `b`, searched over [s0, s1]; nullopt if it does not.

@@ -329,12 +329,16 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (m) {
     add_preview(in_vehicle, &*m);
-    tape_heading_rad_ = vehicle_.yaw_rad - m->e_theta_rad;
+    remember_heading(*m);
     turns_out_of_view_ = turns_out_of_view(detection);
     return *m;
   }
   tape_heading_rad_.reset();
   return carried_back;
+}
+
+void PathMemory::remember_heading(const LineMeasurement& m) {
+  tape_heading_rad_ = vehicle_.yaw_rad - m.e_theta_rad;  // e_theta = vehicle yaw - tape yaw
 }
 
 bool PathMemory::turns_out_of_view(const LineDetection& detection) {
@@ -365,7 +369,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
   m->lines_seen = 0;
   m->confidence = 0.5;  // no evidence in this frame
   m->points_used = 0;
-  tape_heading_rad_ = vehicle_.yaw_rad - m->e_theta_rad;
+  remember_heading(*m);
   return *m;
 }
 

@@ -94,6 +94,8 @@ class PathMemory {
   // Whether the followed tape turns away by more than 45 deg from the vehicle's heading where
   // its evidence ends farthest ahead (a corner the camera is passing).
   static bool turns_out_of_view(const LineDetection& detection);
+  // Keeps the tape's direction under the vehicle (memory frame) from a measurement at the origin.
+  void remember_heading(const LineMeasurement& m);
   // Where the curvature of the tape ahead of the origin changes, and to what (m's preview
   // fields), from local fits along the remembered and seen tape.
   void add_preview(const std::vector<Eigen::Vector2d>& in_vehicle, LineMeasurement* m) const;
