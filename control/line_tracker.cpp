@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace agv::control {
 namespace {
@@ -14,14 +15,38 @@ bool differs(const BodyTwist& a, const BodyTwist& b) {
 
 }  // namespace
 
+double LineTracker::change_ahead_m(const LineMeasurement& m, double now_s) const {
+  if (!std::isfinite(m.curvature_change_m)) return std::numeric_limits<double>::infinity();
+  return m.curvature_change_m - speed_m_s_ * (now_s - m.stamp_s);
+}
+
 double LineTracker::coming_curvature_1_m(const LineMeasurement& m, double now_s) const {
-  if (!std::isfinite(m.curvature_change_m)) return m.curvature_1_m;
-  // Where the change is now (the vehicle has driven on at about path speed since the frame),
-  // and how much of the coming period's travel lies beyond it.
-  const double period_m = std::max(1e-9, options_.path_speed_m_s * options_.ts_s);
-  const double ahead_m = m.curvature_change_m - options_.path_speed_m_s * (now_s - m.stamp_s);
+  const double ahead_m = change_ahead_m(m, now_s);
+  if (!std::isfinite(ahead_m)) return m.curvature_1_m;
+  // How much of the coming period's travel lies beyond the change.
+  const double period_m = std::max(1e-9, speed_m_s_ * options_.ts_s);
   const double beyond = std::clamp((period_m - ahead_m) / period_m, 0.0, 1.0);
   return (1.0 - beyond) * m.curvature_1_m + beyond * m.curvature_ahead_1_m;
+}
+
+double LineTracker::curve_speed_m_s(const LineMeasurement& m, double now_s) const {
+  double speed = options_.path_speed_m_s;
+  if (!(options_.curve_turn_fraction > 0.0)) return speed;
+  const double turn_rad_s = options_.curve_turn_fraction * limits_.w_max_rad_s;
+  const auto turning_speed = [&](double curvature_1_m) {
+    return std::abs(curvature_1_m) > 1e-9 ? turn_rad_s / std::abs(curvature_1_m)
+                                          : std::numeric_limits<double>::infinity();
+  };
+  speed = std::min(speed, turning_speed(m.curvature_1_m));
+  const double ahead_m = change_ahead_m(m, now_s);
+  if (std::isfinite(ahead_m)) {
+    // This period's command holds for a period: the braking starts one period's travel on.
+    const double braking_m = std::max(0.0, ahead_m - speed_m_s_ * options_.ts_s);
+    const double v_curve = turning_speed(m.curvature_ahead_1_m);
+    const double decel = options_.curve_decel_fraction * limits_.a_max_m_s2;
+    speed = std::min(speed, std::sqrt(v_curve * v_curve + 2.0 * decel * braking_m));
+  }
+  return speed;
 }
 
 LineTracker::LineTracker(std::unique_ptr<PathController> controller, const VehicleLimits& limits,
@@ -29,7 +54,8 @@ LineTracker::LineTracker(std::unique_ptr<PathController> controller, const Vehic
     : controller_(std::move(controller)),
       limits_(limits),
       options_(options),
-      previous_command_(initial_command) {}
+      previous_command_(initial_command),
+      speed_m_s_(options.path_speed_m_s) {}
 
 TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, double now_s) {
   if (!first_step_s_) first_step_s_ = now_s;
@@ -66,9 +92,15 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
       estimate.e_theta_rad = predicted.e_theta_rad;
       estimate.e_d_m = predicted.e_d_m;
     }
+    // The speed along the path: down as fast as the vehicle may brake, up at the braking rate
+    // used for curves.
+    const double target_m_s = curve_speed_m_s(*last_good_, now_s);
+    const double dv_m_s = limits_.a_max_m_s2 * options_.ts_s;
+    speed_m_s_ = std::clamp(target_m_s, speed_m_s_ - dv_m_s,
+                            speed_m_s_ + options_.curve_decel_fraction * dv_m_s);
+    if (speed_m_s_ < options_.path_speed_m_s) out.flags |= kSlowForCurve;
     estimate.curvature_1_m = coming_curvature_1_m(*last_good_, now_s);
-    const ControlContext context{options_.ts_s, options_.path_speed_m_s, previous_command_,
-                                 limits_};
+    const ControlContext context{options_.ts_s, speed_m_s_, previous_command_, limits_};
     const ControllerOutput controlled = controller_->update(estimate, context);
     desired = controlled.command;
     out.horizon_steps = controlled.horizon_steps;

@@ -19,6 +19,7 @@ enum TrackerFlag : std::uint32_t {
   kSaturated = 1u << 4,          // the vehicle limits changed the controller's command
   kNoMeasurementYet = 1u << 5,   // nothing measured since start: the last command is kept
   kNoMeasurements = 1u << 6,     // no measurement arrived this period (camera late or stalled)
+  kSlowForCurve = 1u << 7,       // the path speed is lowered for the curvature here or ahead
 };
 
 struct TrackerOutput {
@@ -37,7 +38,11 @@ struct TrackerOutput {
 // latency compensation on, the error is predicted from the frame's time to now with the
 // commands already sent (as Nav2 MPPI's model delay and Autoware MPC's input delay do). Where
 // the measurement previews a change of the path's curvature ahead, the curvature fed forward
-// changes in the period the vehicle reaches it.
+// changes in the period the vehicle reaches it. On a curve the vehicle must turn at
+// v * |curvature|: where that would exceed `curve_turn_fraction` of the yaw-rate limit (the rest
+// is left for corrections), the speed along the path is lowered to fit, and it is lowered in time
+// for a sharper curve the measurement previews, braking at `curve_decel_fraction` of the
+// acceleration limit (v^2 = v_curve^2 + 2 a d).
 class LineTracker {
  public:
   struct Options {
@@ -45,6 +50,8 @@ class LineTracker {
     double path_speed_m_s = 0.3;
     double line_lost_hold_s = 0.3;
     bool latency_compensation = true;
+    double curve_turn_fraction = 0.8;  // 0: the path speed is never lowered for a curve
+    double curve_decel_fraction = 0.5;
   };
 
   LineTracker(std::unique_ptr<PathController> controller, const VehicleLimits& limits,
@@ -65,6 +72,12 @@ class LineTracker {
   // measured curvature, or, where the measurement previews a change that the vehicle reaches
   // within the period, the two weighted by the travel on each side of it.
   double coming_curvature_1_m(const LineMeasurement& m, double now_s) const;
+  // The highest speed along the path (m/s) at which the vehicle can turn through the curvature
+  // here and reach, braking, the curvature the measurement previews: at most the path speed.
+  double curve_speed_m_s(const LineMeasurement& m, double now_s) const;
+  // Where the previewed curvature change lies now (m ahead of the origin), the vehicle having
+  // driven on since the frame; infinite when none is previewed.
+  double change_ahead_m(const LineMeasurement& m, double now_s) const;
 
   std::unique_ptr<PathController> controller_;
   VehicleLimits limits_;
@@ -76,6 +89,7 @@ class LineTracker {
   bool stopped_tracking_ = false;
   std::optional<double> first_step_s_;
   std::optional<double> last_arrival_s_;  // when the newest measurement (found or not) arrived
+  double speed_m_s_;                      // the speed along the path this period
 };
 
 }  // namespace agv::control

@@ -213,10 +213,17 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
                              ? -h
                              : -std::abs(h) - std::abs(offset_m) / 0.05);
   };
-  // A line followed as it is: in the direction it was followed in the frame before.
-  auto as_before = [&](const CurveModel& m) {
+  // A line followed as it is: in the direction it was followed in the frame before, compared
+  // where the line is seen (at the origin's foot point, far from it, a tight curve's tangent may
+  // point either way).
+  auto as_before = [&](const DetectedLine& line) {
+    const CurveModel& m = line.model;
     if (!history || !history->followed) return m;
-    return m.tangent().dot(history->followed->tangent()) >= 0.0 ? m : m.reversed();
+    const Eigen::Vector2d seen = m.point_at(0.5 * (line.s_min_m + line.s_max_m));
+    const CurveModel& before = *history->followed;
+    const double along =
+        m.tangent_at(m.arc_position(seen)).dot(before.tangent_at(before.arc_position(seen)));
+    return along >= 0.0 ? m : m.reversed();
   };
   auto best_line = [&] {
     int best = 0;
@@ -232,7 +239,7 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     if (lines.size() > 1) {
       double best_score = -std::numeric_limits<double>::infinity();
       for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
-        const CurveModel m = as_before(lines[i].model);
+        const CurveModel m = as_before(lines[i]);
         const double near_s = m.arc_position(lines[i].model.point_at(lines[i].s_min_m));
         const double far_s = m.arc_position(lines[i].model.point_at(lines[i].s_max_m));
         const double h = heading_at(m, std::min(near_s, far_s));
@@ -244,7 +251,7 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
         }
       }
     }
-    followed.model = as_before(lines[followed.line].model);
+    followed.model = as_before(lines[followed.line]);
     return followed;
   }
   int chosen = -1;
@@ -279,7 +286,7 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     followed.model = leaving(incoming.line, wrap_angle_rad(incoming.heading_rad + M_PI));
   } else {
     followed.line = best_line();
-    followed.model = as_before(lines[followed.line].model);
+    followed.model = as_before(lines[followed.line]);
   }
   return followed;
 }

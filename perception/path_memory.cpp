@@ -132,9 +132,12 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, doubl
 
 std::optional<LineMeasurement> PathMemory::at_origin(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
-  // A frame along the tape near the origin: the line in view's heading there, refined once by
-  // the fit's own slope so that the slopes the fit sees stay small.
-  double frame_rad = -in_view.e_theta_rad;
+  // A frame along the tape near the origin: the remembered tape's direction under the vehicle
+  // when known (the line in view may be a corner's outgoing leg the vehicle has not reached),
+  // else the line in view's heading there; refined once by the fit's own slope so that the
+  // slopes the fit sees stay small.
+  double frame_rad = tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad)
+                                       : -in_view.e_theta_rad;
   std::optional<JoinedArcs> fit;
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<Eigen::Vector2d> local;
@@ -357,9 +360,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
   // reaches both sides of the origin. Otherwise (a covered lens, a gap, the tape's end) the line
   // is lost.
   if (!tape_heading_rad_ || !turns_out_of_view_ || points_.empty()) return in_view;
-  LineMeasurement guess = in_view;
-  guess.e_theta_rad = wrap_angle_rad(vehicle_.yaw_rad - *tape_heading_rad_);
-  std::optional<LineMeasurement> m = at_origin(guess, points_in_vehicle_frame());
+  std::optional<LineMeasurement> m = at_origin(in_view, points_in_vehicle_frame());
   if (!m) {
     tape_heading_rad_.reset();
     return in_view;
@@ -369,6 +370,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
   m->lines_seen = 0;
   m->confidence = 0.5;  // no evidence in this frame
   m->points_used = 0;
+  add_preview(points_in_vehicle_frame(), &*m);  // the corner's remembered tape ahead
   remember_heading(*m);
   return *m;
 }

@@ -114,6 +114,7 @@ control::LineTracker make_tracker(const Scenario& s, double ts_s) {
   options.path_speed_m_s = s.path_speed_m_s;
   options.line_lost_hold_s = s.controller.line_lost_hold_s;
   options.latency_compensation = s.controller.latency_compensation;
+  options.curve_turn_fraction = s.controller.curve_turn_fraction;
   return control::LineTracker(make_controller(s), s.vehicle.limits, options, start_twist(s));
 }
 

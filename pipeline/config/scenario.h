@@ -58,6 +58,9 @@ struct ControllerConfig {
   control::DwaController::Options dwa;          // its improved and wheel fields come from the
                                                 //   kind and the vehicle
   double line_lost_hold_s = 0.3;
+  // The path speed on a curve is at most this fraction of the yaw-rate limit times the radius
+  // (0: never lowered); see control::LineTracker.
+  double curve_turn_fraction = 0.8;
   bool latency_compensation = true;
 };
 

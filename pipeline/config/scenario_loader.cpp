@@ -415,6 +415,8 @@ void read_controller(YamlReader& in, ControllerConfig* c) {
   c->ts_s = in.number("controller.ts_s", c->ts_s, 0.001, 1.0);
   c->line_lost_hold_s = in.number("controller.line_lost_hold_s", c->line_lost_hold_s, 0.0, 60.0);
   c->latency_compensation = in.boolean("controller.latency_compensation", c->latency_compensation);
+  c->curve_turn_fraction =
+      in.number("controller.curve_turn_fraction", c->curve_turn_fraction, 0.0, 1.0);
   read_finite_step(in, &c->finite_step);
   read_pid(in, &c->pid);
   read_seed004(in, &c->seed004);

@@ -124,5 +124,62 @@ TEST(LineTracker, NeverCommandsBeyondTheLimits) {
   }
 }
 
+// A curve of R 0.1 m previewed 0.4 m ahead at 0.3 m/s: turning through it at 0.3 m/s would take
+// 3 rad/s, three times the yaw-rate limit. The vehicle must reach it at no more than
+// 0.8 * w_max * R = 0.08 m/s (the rest of w_max left for corrections), drive it no faster, and
+// speed up again once the path is straight.
+TEST(LineTracker, SlowsInTimeForASharpCurveAheadAndSpeedsUpAfter) {
+  LineTracker tracker = make_tracker(0.3);
+  constexpr double kChange_m = 0.4, kCurveEnd_m = 0.55, kCurvature_1_m = 10.0;
+  const double v_curve_m_s = 0.8 * kLimits.w_max_rad_s / kCurvature_1_m;
+  BodyTwist previous{0.3, 0.0, 0.0};
+  double travelled_m = 0.0;
+  bool slowed = false;
+  double fastest_on_curve_m_s = 0.0, last_speed_m_s = 0.0;
+  for (int k = 0; k < 60; ++k) {
+    const double t = k * kTs;
+    LineMeasurement m = seen(t);
+    if (travelled_m < kChange_m) {
+      m.curvature_change_m = kChange_m - travelled_m;
+      m.curvature_ahead_1_m = kCurvature_1_m;
+    } else if (travelled_m < kCurveEnd_m) {
+      m.curvature_1_m = kCurvature_1_m;
+    }
+    const TrackerOutput out = tracker.step(m, t);
+    EXPECT_EQ(check_limits(out.command, previous, kLimits, kTs), 0u) << "k=" << k;
+    if (k == 0) {
+      EXPECT_NEAR(out.command.vx_m_s, 0.3, 1e-9) << "braking began too early";
+    }
+    slowed = slowed || (out.flags & kSlowForCurve);
+    const double next_m = travelled_m + out.command.vx_m_s * kTs;
+    // This period's travel reaches into the curve: it is driven at the curve's speed.
+    if (next_m > kChange_m && travelled_m < kCurveEnd_m)
+      fastest_on_curve_m_s = std::max(fastest_on_curve_m_s, out.command.vx_m_s);
+    travelled_m = next_m;
+    previous = out.command;
+    last_speed_m_s = out.command.vx_m_s;
+  }
+  EXPECT_TRUE(slowed);
+  EXPECT_GT(fastest_on_curve_m_s, 0.0) << "the curve was never reached";
+  // 2 %: the turn-rate share is a design margin, the braking curve is met to rounding.
+  EXPECT_LE(fastest_on_curve_m_s, 1.02 * v_curve_m_s);
+  EXPECT_NEAR(last_speed_m_s, 0.3, 1e-9) << "not back to path speed on the straight after";
+}
+
+// With the curve speed off (curve_turn_fraction 0) the path speed is kept on any curve.
+TEST(LineTracker, CurveSpeedOffKeepsThePathSpeed) {
+  LineTracker::Options options;
+  options.ts_s = kTs;
+  options.path_speed_m_s = 0.3;
+  options.curve_turn_fraction = 0.0;
+  LineTracker tracker(std::make_unique<FiniteStepController>(FiniteStepController::Options{}),
+                      kLimits, options, {0.3, 0.0, 0.0});
+  LineMeasurement m = seen(0.0);
+  m.curvature_1_m = 10.0;
+  const TrackerOutput out = tracker.step(m, 0.0);
+  EXPECT_NEAR(out.command.vx_m_s, 0.3, 1e-9);
+  EXPECT_FALSE(out.flags & kSlowForCurve);
+}
+
 }  // namespace
 }  // namespace agv::control
