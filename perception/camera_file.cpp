@@ -141,33 +141,39 @@ CalibrationInfo read_calibration_info(const cv::FileNode& root, const std::strin
   return info;
 }
 
-// The distorted radius must keep growing out to the farthest image corner; where it turns back
-// the model folds the image onto itself and pixels there have no unique ray.
-void check_distortion_does_not_fold(const CameraIntrinsics& intrinsics, const std::string& source) {
-  if (intrinsics.distortion.empty()) return;
+}  // namespace
+
+std::string distortion_fold_problem(const CameraIntrinsics& intrinsics) {
+  // The distorted radius must keep growing out to each image corner; where it turns back the
+  // model folds the image onto itself and pixels there have no unique ray.
+  if (intrinsics.distortion.empty()) return "";
   const cv::Matx33d& k = intrinsics.camera_matrix;
   const double fx = k(0, 0), fy = k(1, 1), cx = k(0, 2), cy = k(1, 2);
   const double w = intrinsics.width_px - 1.0, h = intrinsics.height_px - 1.0;
-  const cv::Mat distortion = cv::Mat(intrinsics.distortion, true).reshape(1, 1);
+  const CameraModel camera(intrinsics, MountPose{});
+  const cv::Mat zero = cv::Mat::zeros(3, 1, CV_64F);
   for (const cv::Point2d corner :
        {cv::Point2d(0, 0), cv::Point2d(w, 0), cv::Point2d(0, h), cv::Point2d(w, h)}) {
     const cv::Point2d direction((corner.x - cx) / fx, (corner.y - cy) / fy);
     const double corner_radius_px = std::hypot(corner.x - cx, corner.y - cy);
-    std::vector<cv::Point3d> ray;
+    // Rays out to 4x the pinhole radius of the corner; a fisheye sees rays beyond 90 deg too,
+    // which no pinhole ray reaches: out to 85 deg for it.
+    std::vector<cv::Point3f> ray;
     constexpr int kSamples = 400;
-    constexpr double kMaxScale = 4.0;  // up to 4x the pinhole radius of the corner
+    const double max_scale =
+        intrinsics.fisheye ? std::tan(85.0 * M_PI / 180.0) / std::max(1e-9, cv::norm(direction))
+                           : 4.0;
     for (int i = 1; i <= kSamples; ++i) {
-      const double scale = kMaxScale * i / kSamples;
-      ray.emplace_back(direction.x * scale, direction.y * scale, 1.0);
+      const double scale = max_scale * i / kSamples;
+      ray.emplace_back(static_cast<float>(direction.x * scale),
+                       static_cast<float>(direction.y * scale), 1.0f);
     }
-    std::vector<cv::Point2d> projected;
-    cv::projectPoints(ray, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Mat(k), distortion,
-                      projected);
+    const std::vector<cv::Point2d> projected = camera.project_camera_points(ray, zero, zero);
     double previous_radius_px = 0.0;
     bool reached_corner = false;
     for (const cv::Point2d& p : projected) {
       const double radius_px = std::hypot(p.x - cx, p.y - cy);
-      if (radius_px <= previous_radius_px) break;  // the mapping turned back: it folds
+      if (!(radius_px > previous_radius_px)) break;  // the mapping turned back: it folds
       if (radius_px >= corner_radius_px) {
         reached_corner = true;
         break;
@@ -175,11 +181,24 @@ void check_distortion_does_not_fold(const CameraIntrinsics& intrinsics, const st
       previous_radius_px = radius_px;
     }
     if (!reached_corner) {
-      fail(source, "distortion_coefficients",
-           "the distortion folds the image (the projection stops moving outwards before the "
-           "image corner); these coefficients cannot describe this camera");
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "the distortion folds the image (the projection turns back %.0f px from the "
+                    "centre, before the image corner at %.0f px)",
+                    previous_radius_px, corner_radius_px);
+      return text;
     }
   }
+  return "";
+}
+
+namespace {
+
+void check_distortion_does_not_fold(const CameraIntrinsics& intrinsics, const std::string& source) {
+  const std::string problem = distortion_fold_problem(intrinsics);
+  if (!problem.empty())
+    fail(source, "distortion_coefficients",
+         problem + "; these coefficients cannot describe this camera");
 }
 
 }  // namespace
@@ -207,6 +226,9 @@ void validate_intrinsics(const CameraIntrinsics& intrinsics, const std::string& 
     fail(source, "camera_matrix", "principal point lies far outside the image");
   }
   const size_t n = intrinsics.distortion.size();
+  if (intrinsics.fisheye && n != 0 && n != 4)
+    fail(source, "distortion_coefficients",
+         "OpenCV's fisheye model has 4 coefficients (k1 k2 k3 k4), got " + std::to_string(n));
   if (n != 0 && n != 4 && n != 5 && n != 8 && n != 12 && n != 14) {
     fail(source, "distortion_coefficients",
          "expected 4, 5, 8, 12 or 14 coefficients (OpenCV's model), got " + std::to_string(n));
@@ -251,11 +273,12 @@ CameraFile parse_camera_text(const std::string& yaml_text, const std::string& so
            "camera_matrix, distortion_coefficients, mount_xyz_m, mount_rpy_rad)");
     }
   }
-  if (!root["fisheye_model"].empty() && root["fisheye_model"].isInt() &&
-      static_cast<int>(root["fisheye_model"]) != 0) {
-    fail(source, "fisheye_model",
-         "the fisheye model is not supported; calibrate with the "
-         "standard (pinhole + radial/tangential) model");
+  bool fisheye = false;
+  if (!root["fisheye_model"].empty()) {
+    if (!root["fisheye_model"].isInt() || (static_cast<int>(root["fisheye_model"]) != 0 &&
+                                           static_cast<int>(root["fisheye_model"]) != 1))
+      fail(source, "fisheye_model", "expected 0 (standard model) or 1 (OpenCV's fisheye model)");
+    fisheye = static_cast<int>(root["fisheye_model"]) == 1;
   }
 
   CameraFile camera;
@@ -267,6 +290,7 @@ CameraFile parse_camera_text(const std::string& yaml_text, const std::string& so
   intrinsics.camera_matrix = cv::Matx33d(k.reshape(1, 3));
   const cv::Mat d = read_matrix(root, "distortion_coefficients", source);
   intrinsics.distortion.assign(d.begin<double>(), d.end<double>());
+  intrinsics.fisheye = fisheye;
   validate_intrinsics(intrinsics, source);
 
   const bool has_xyz = !root["mount_xyz_m"].empty();
@@ -329,8 +353,9 @@ std::string camera_file_text(const CameraFile& camera) {
   storage << "image_height" << camera.intrinsics.height_px;
   storage << "camera_matrix" << cv::Mat(camera.intrinsics.camera_matrix);
   std::vector<double> distortion = camera.intrinsics.distortion;
-  if (distortion.empty()) distortion.assign(5, 0.0);
+  if (distortion.empty()) distortion.assign(camera.intrinsics.fisheye ? 4 : 5, 0.0);
   storage << "distortion_coefficients" << cv::Mat(distortion, true);
+  if (camera.intrinsics.fisheye) storage << "fisheye_model" << 1;
   if (ic.avg_reprojection_error_px >= 0.0) {
     storage << "avg_reprojection_error" << ic.avg_reprojection_error_px;
   }

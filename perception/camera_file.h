@@ -46,6 +46,10 @@ std::string camera_file_text(const CameraFile& camera);
 void validate_intrinsics(const CameraIntrinsics& intrinsics, const std::string& source_name);
 void validate_mount(const MountPose& mount, const std::string& source_name);
 
+// Why the distortion folds the image (the projection turns back before an image corner), or ""
+// when it does not.
+std::string distortion_fold_problem(const CameraIntrinsics& intrinsics);
+
 // The camera model of a file, which must have a mount.
 CameraModel camera_model_of(const CameraFile& camera, const std::string& source_name);
 

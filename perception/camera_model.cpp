@@ -22,6 +22,12 @@ CameraModel::CameraModel(const CameraIntrinsics& intrinsics, const MountPose& mo
 std::vector<cv::Point2d> CameraModel::undistort(const std::vector<cv::Point2d>& pixels) const {
   std::vector<cv::Point2d> normalised;
   if (pixels.empty()) return normalised;
+  const cv::TermCriteria exact(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12);
+  if (intrinsics_.fisheye) {
+    cv::fisheye::undistortPoints(pixels, normalised, camera_matrix_, distortion_, cv::noArray(),
+                                 cv::noArray(), exact);
+    return normalised;
+  }
   // OpenCV's default is 5 fixed-point iterations: not enough for metric accuracy at the corners.
   cv::undistortPoints(
       pixels, normalised, camera_matrix_, distortion_, cv::noArray(), cv::noArray(),
@@ -57,11 +63,24 @@ std::optional<Eigen::Vector2d> CameraModel::pixel_to_floor(const cv::Point2d& pi
 std::optional<cv::Point2d> CameraModel::vehicle_to_pixel(const Eigen::Vector3d& p) const {
   const Eigen::Vector3d p_camera = r_vc_.transpose() * (p - mount_.xyz_m);
   if (p_camera.z() <= 1e-9) return std::nullopt;
-  std::vector<cv::Point3d> object{{p_camera.x(), p_camera.y(), p_camera.z()}};
+  const cv::Mat zero = cv::Mat::zeros(3, 1, CV_64F);
+  return project_camera_points({cv::Point3f(0, 0, 0)}, zero,
+                               (cv::Mat_<double>(3, 1) << p_camera.x(), p_camera.y(), p_camera.z()))
+      .front();
+}
+
+std::vector<cv::Point2d> CameraModel::project_camera_points(const std::vector<cv::Point3f>& points,
+                                                            const cv::Mat& rvec,
+                                                            const cv::Mat& tvec) const {
+  std::vector<cv::Point3d> object(points.begin(), points.end());
   std::vector<cv::Point2d> image;
-  cv::projectPoints(object, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), camera_matrix_, distortion_,
-                    image);
-  return image[0];
+  if (intrinsics_.fisheye) {
+    cv::fisheye::projectPoints(object, image, rvec, tvec, camera_matrix_,
+                               distortion_.empty() ? cv::Mat::zeros(1, 4, CV_64F) : distortion_);
+  } else {
+    cv::projectPoints(object, rvec, tvec, camera_matrix_, distortion_, image);
+  }
+  return image;
 }
 
 }  // namespace agv::perception

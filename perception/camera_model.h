@@ -9,12 +9,15 @@
 
 namespace agv::perception {
 
-// Pinhole intrinsics with OpenCV's distortion model, as OpenCV's calibration sample writes them.
+// Pinhole intrinsics with OpenCV's distortion model, as OpenCV's calibration sample writes them:
+// the standard model (k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]) or, with `fisheye`, OpenCV's equidistant
+// fisheye model (cv::fisheye: k1 k2 k3 k4).
 struct CameraIntrinsics {
   int width_px = 640;
   int height_px = 480;
   cv::Matx33d camera_matrix = cv::Matx33d(384, 0, 319.5, 0, 384, 239.5, 0, 0, 1);
-  std::vector<double> distortion;  // k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]; empty: none
+  std::vector<double> distortion;  // empty: none
+  bool fisheye = false;
 };
 
 // Maps pixels to points of the floor plane z = 0 in the vehicle frame and back, through the
@@ -42,6 +45,11 @@ class CameraModel {
 
   // Undistorted normalised image coordinates (x/z, y/z in the camera frame) of pixels.
   std::vector<cv::Point2d> undistort(const std::vector<cv::Point2d>& pixels) const;
+
+  // Pixels of points given in a frame posed (rvec, tvec) in the camera frame, as
+  // cv::projectPoints (cv::fisheye::projectPoints for a fisheye lens) gives them.
+  std::vector<cv::Point2d> project_camera_points(const std::vector<cv::Point3f>& points,
+                                                 const cv::Mat& rvec, const cv::Mat& tvec) const;
 
  private:
   CameraIntrinsics intrinsics_;

@@ -29,17 +29,31 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
   calibrate->require_subcommand(1);
   CLI::App* sub = calibrate->add_subcommand(
       "intrinsics",
-      "Intrinsics from images of a chessboard (sub-pixel corners) or an AprilTag grid: OpenCV "
-      "calibrateCamera "
-      "(k1 k2 p1 p2 k3), outlier views rejected. Writes the camera YAML (OpenCV sample layout, "
-      "no mount) and <out>_coverage.png (where the corners fell); prints the RMS reprojection "
-      "error and each view's, and warns when views or coverage are too few to trust.");
+      "Intrinsics from images of a chessboard (findChessboardCornersSB, the classic detector as "
+      "a fallback), a ChArUco board or an AprilTag grid: OpenCV's calibration with the lens "
+      "model asked for, outlier views rejected; a fit whose distortion folds the image is "
+      "refitted with fewer coefficients (k3, then k2 held at 0), and says so. Writes the camera "
+      "YAML (OpenCV sample layout, no mount) and <out>_coverage.png (where the corners fell); "
+      "prints each view's detector and RMS, the RMS over all, and warnings a user can act on "
+      "(views, coverage, tilt, fx/fy, a view the result leans on). When no model fits it prints "
+      "the table and what to do, writes nothing and exits 2.");
   sub->add_option("--images", args.images_dir, "Folder of PNG/JPEG images")->required();
   sub->add_option("--board", args.board,
                   "chessboard:COLSxROWS:SQUARE_M (inner corners; default chessboard:9x6:0.025) or "
-                  "apriltag:COLSxROWS:TAG_M:PITCH_M (a grid of tag36h11 tags, ids 0.. row by row "
-                  "from the top left, TAG_M across, centres PITCH_M apart)");
-  sub->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
+                  "charuco:COLSxROWS:SQUARE_M:MARKER_M[:DICTIONARY] (squares; dictionary default "
+                  "DICT_4X4_50) or "
+                  "apriltag:COLSxROWS:TAG_M:PITCH_M[:PITCH_Y_M] (a grid of tag36h11 tags, ids 0.. "
+                  "row by row from the top left, TAG_M across, centres PITCH_M apart along a row "
+                  "and PITCH_Y_M down a column)")
+      ->capture_default_str();
+  sub->add_option("--model", args.model,
+                  "Lens model: pinhole (k1 k2 p1 p2 k3), rational (k1..k6 p1 p2) or fisheye "
+                  "(OpenCV's equidistant k1..k4)")
+      ->capture_default_str();
+  sub->add_option("--out", args.out,
+                  "Camera YAML to write (default camera_<date>-<time>.yaml); an existing file is "
+                  "replaced only with --force");
+  sub->add_flag("--force", args.force, "Replace an existing output file");
   sub->add_flag("--json", args.json, "Print the result as JSON");
   sub->callback([&args] { args.command = "intrinsics"; });
 
@@ -57,7 +71,10 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
                    "yaw_rad}] in the vehicle frame")
       ->required();
   mount->add_option("--camera", args.camera_file, "Camera YAML with the intrinsics")->required();
-  mount->add_option("--out", args.out, "Camera YAML to write (default camera.yaml)");
+  mount->add_option("--out", args.out,
+                    "Camera YAML to write (default camera_<date>-<time>.yaml); an existing file "
+                    "is replaced only with --force");
+  mount->add_flag("--force", args.force, "Replace an existing output file");
   mount->add_flag("--json", args.json, "Print the result as JSON");
   mount->callback([&args] { args.command = "mount"; });
 }
@@ -84,6 +101,20 @@ void read_images(const std::string& folder, std::vector<std::string>* names,
   }
 }
 
+// The output file: the one given (refused when it exists, unless --force), else
+// camera_<date>-<time>.yaml in the working directory.
+std::string output_path(const CalibrateArgs& args) {
+  if (args.out.empty()) {
+    const std::time_t now = std::time(nullptr);
+    char name[64];
+    std::strftime(name, sizeof(name), "camera_%Y%m%d-%H%M%S.yaml", std::localtime(&now));
+    return name;
+  }
+  if (fs::exists(args.out) && !args.force)
+    throw InputError(args.out + ": exists; pass --force to replace it, or another --out");
+  return args.out;
+}
+
 std::string now_text() {
   const std::time_t now = std::time(nullptr);
   char date[32];
@@ -92,6 +123,7 @@ std::string now_text() {
 }
 
 int run_mount(const CalibrateArgs& args) {
+  const std::string out = output_path(args);
   perception::CameraFile camera = perception::load_camera_file(args.camera_file);
   const perception::FloorTagsFile tags = pipeline::load_floor_tags_file(args.tags_file);
   const std::string folder =
@@ -113,9 +145,8 @@ int run_mount(const CalibrateArgs& args) {
   camera.mount_calibration.method =
       "agv calibrate mount, " + std::to_string(m.tags_seen) + " " + tags.family + " tags";
   camera.mount_calibration.date = now_text();
-  if (fs::path(args.out).has_parent_path())
-    fs::create_directories(fs::path(args.out).parent_path());
-  perception::save_camera_file(args.out, camera);
+  if (fs::path(out).has_parent_path()) fs::create_directories(fs::path(out).parent_path());
+  perception::save_camera_file(out, camera);
   const double deg = 180.0 / M_PI;
   if (args.json) {
     nlohmann::json j;
@@ -145,7 +176,7 @@ int run_mount(const CalibrateArgs& args) {
                   1e3 * d.norm(), 1e3 * d.x(), 1e3 * d.y(), 1e3 * d.z());
     }
     std::printf("RMS reprojection %.3f px | %d of %zu frames, %d tags, %d corners | output: %s\n",
-                m.rms_px, m.frames_used, images.size(), m.tags_seen, m.points, args.out.c_str());
+                m.rms_px, m.frames_used, images.size(), m.tags_seen, m.points, out.c_str());
   }
   for (const std::string& warning : m.warnings)
     std::cerr << "agv calibrate mount: warning: " << warning << '\n';
@@ -154,27 +185,51 @@ int run_mount(const CalibrateArgs& args) {
 
 }  // namespace
 
+namespace {
+
+void print_views(const perception::IntrinsicsCalibration& result) {
+  std::printf("%-32s %-9s %8s %10s\n", "image", "detector", "rms_px", "worst_px");
+  for (const perception::CalibrationView& v : result.views) {
+    const std::string detector =
+        v.board_found ? v.detector : (v.board_seen.empty() ? "-" : "larger");
+    std::printf("%-32s %-9s %8s %10s\n", v.name.c_str(), detector.c_str(),
+                v.used ? cv::format("%.3f", v.rms_px).c_str() : (v.board_found ? "rejected" : "-"),
+                v.used ? cv::format("%.2f", v.worst_corner_px).c_str() : "");
+  }
+}
+
+}  // namespace
+
 int run_calibrate(const CalibrateArgs& args) {
   if (args.command == "mount") return run_mount(args);
   const perception::BoardSpec board = perception::parse_board(args.board);
+  const perception::LensModel model = perception::parse_lens_model(args.model);
+  const std::string out = output_path(args);
   std::vector<std::string> names;
   std::vector<cv::Mat> images;
   read_images(args.images_dir, &names, &images);
   const perception::IntrinsicsCalibration result =
-      perception::calibrate_intrinsics(names, images, board);
+      perception::calibrate_intrinsics(names, images, board, model);
+  if (!result.fitted) {
+    if (!args.json) {
+      print_views(result);
+      for (const std::string& note : result.notes) std::printf("tried %s\n", note.c_str());
+    }
+    throw InputError(args.images_dir + ": " + result.failure);
+  }
 
   perception::CameraFile camera;
   camera.intrinsics = result.intrinsics;
   camera.intrinsics_calibration.avg_reprojection_error_px = result.rms_px;
   camera.intrinsics_calibration.views = result.used_views;
-  camera.intrinsics_calibration.method = "agv calibrate intrinsics, " + args.board;
+  camera.intrinsics_calibration.method =
+      "agv calibrate intrinsics, " + args.board + ", " + result.model;
   camera.intrinsics_calibration.date = now_text();
   perception::validate_intrinsics(camera.intrinsics, "calibration result");
-  if (fs::path(args.out).has_parent_path())
-    fs::create_directories(fs::path(args.out).parent_path());
-  perception::save_camera_file(args.out, camera);
+  if (fs::path(out).has_parent_path()) fs::create_directories(fs::path(out).parent_path());
+  perception::save_camera_file(out, camera);
   const fs::path coverage =
-      fs::path(args.out).parent_path() / (fs::path(args.out).stem().string() + "_coverage.png");
+      fs::path(out).parent_path() / (fs::path(out).stem().string() + "_coverage.png");
   cv::imwrite(coverage.string(), perception::coverage_picture(result));
 
   const cv::Matx33d& k = result.intrinsics.camera_matrix;
@@ -184,31 +239,33 @@ int run_calibrate(const CalibrateArgs& args) {
     j["views"] = images.size();
     j["views_used"] = result.used_views;
     j["coverage"] = result.coverage;
+    j["model"] = result.model;
+    j["fisheye"] = result.intrinsics.fisheye;
     j["fx_px"] = k(0, 0);
     j["fy_px"] = k(1, 1);
     j["cx_px"] = k(0, 2);
     j["cy_px"] = k(1, 2);
     j["distortion"] = result.intrinsics.distortion;
+    j["notes"] = result.notes;
     j["warnings"] = result.warnings;
+    j["output"] = out;
     for (const perception::CalibrationView& v : result.views)
       j["per_view"].push_back({{"image", v.name},
                                {"board_found", v.board_found},
+                               {"detector", v.detector},
                                {"used", v.used},
-                               {"rms_px", v.rms_px}});
+                               {"rms_px", v.rms_px},
+                               {"worst_corner_px", v.worst_corner_px}});
     std::cout << j.dump(2) << '\n';
   } else {
-    std::printf("%-32s %8s %10s\n", "image", "board", "rms_px");
-    for (const perception::CalibrationView& v : result.views) {
-      std::printf(
-          "%-32s %8s %10s\n", v.name.c_str(), v.board_found ? "found" : "-",
-          v.used ? cv::format("%.3f", v.rms_px).c_str() : (v.board_found ? "rejected" : "-"));
-    }
+    print_views(result);
+    for (const std::string& note : result.notes) std::printf("note: %s\n", note.c_str());
     std::printf(
-        "RMS reprojection error %.3f px over %d of %zu views | fx %.2f fy %.2f cx %.2f cy %.2f px "
-        "| coverage %.0f %%\n",
-        result.rms_px, result.used_views, images.size(), k(0, 0), k(1, 1), k(0, 2), k(1, 2),
-        100.0 * result.coverage);
-    std::printf("output: %s, %s\n", args.out.c_str(), coverage.string().c_str());
+        "RMS reprojection error %.3f px over %d of %zu views | %s | fx %.2f fy %.2f cx %.2f cy "
+        "%.2f px | coverage %.0f %%\n",
+        result.rms_px, result.used_views, images.size(), result.model.c_str(), k(0, 0), k(1, 1),
+        k(0, 2), k(1, 2), 100.0 * result.coverage);
+    std::printf("output: %s, %s\n", out.c_str(), coverage.string().c_str());
   }
   for (const std::string& warning : result.warnings)
     std::cerr << "agv calibrate intrinsics: warning: " << warning << '\n';

@@ -13,7 +13,9 @@ struct CalibrateArgs {
   std::string tags_file;
   std::string camera_file;
   std::string board = "chessboard:9x6:0.025";
-  std::string out = "camera.yaml";
+  std::string model = "pinhole";
+  std::string out;  // empty: camera_<date>-<time>.yaml in the working directory
+  bool force = false;
   bool json = false;
 };
 

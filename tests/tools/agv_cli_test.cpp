@@ -10,6 +10,7 @@
 
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -275,6 +276,38 @@ TEST_F(AgvCli, CalibratesIntrinsicsFromTheOpenCvChessboardSample) {
   EXPECT_NEAR(j["cy_px"].get<double>(), 240.0, 48.0);
   EXPECT_TRUE(fs::exists(dir_ / "cam" / "camera.yaml"));
   EXPECT_TRUE(fs::exists(dir_ / "cam" / "camera_coverage.png"));
+  EXPECT_EQ(j["output"].get<std::string>(), path("cam/camera.yaml"));
+  // An independent reference: OpenCV's classic detector, a 5x5 sub-pixel window and
+  // calibrateCamera with its defaults, as OpenCV's tutorial runs it. 1 %: the bar.
+  std::vector<std::vector<cv::Point3f>> objects;
+  std::vector<std::vector<cv::Point2f>> corners;
+  std::vector<cv::Point3f> board;
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 9; ++c) board.emplace_back(0.025f * c, 0.025f * r, 0.0f);
+  cv::Size size;
+  for (const auto& entry : fs::directory_iterator(images)) {
+    if (entry.path().extension() != ".jpg") continue;
+    const cv::Mat grey = cv::imread(entry.path().string(), cv::IMREAD_GRAYSCALE);
+    size = grey.size();
+    std::vector<cv::Point2f> found;
+    if (!cv::findChessboardCorners(grey, cv::Size(9, 6), found)) continue;
+    cv::cornerSubPix(grey, found, cv::Size(5, 5), cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 1e-3));
+    objects.push_back(board);
+    corners.push_back(found);
+  }
+  cv::Mat k, d;
+  std::vector<cv::Mat> rvecs, tvecs;
+  cv::calibrateCamera(objects, corners, size, k, d, rvecs, tvecs);
+  EXPECT_NEAR(j["fx_px"].get<double>() / k.at<double>(0, 0), 1.0, 0.01);
+  EXPECT_NEAR(j["fy_px"].get<double>() / k.at<double>(1, 1), 1.0, 0.01);
+  // Run again onto the same file: refused before any work, the file kept.
+  const auto written = fs::last_write_time(dir_ / "cam" / "camera.yaml");
+  const Result again = run("calibrate intrinsics --images " + images +
+                           " --board chessboard:9x6:0.025 --out " + path("cam/camera.yaml"));
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
+  EXPECT_EQ(fs::last_write_time(dir_ / "cam" / "camera.yaml"), written);
 }
 
 TEST_F(AgvCli, CalibrateRejectsBadInputByName) {
