@@ -1,6 +1,8 @@
 #include "perception/mount_calibration.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 
 #include <Eigen/Dense>
@@ -30,6 +32,48 @@ Eigen::Matrix<double, 6, 1> mount_vector(const MountPose& m) {
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
+// The camera pose (X_c = R X_v + t) that best reprojects the points: IPPE on the first tag's
+// corners (a square), of its two solutions the one whose camera is above the floor and which
+// reprojects all points best; then all points, LM.
+struct PoseFit {
+  cv::Vec3d r, t;
+};
+PoseFit fit_pose(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
+                 const cv::Mat& k, const cv::Mat& dist) {
+  std::vector<cv::Point3d> first(object.begin(), object.begin() + 4);
+  std::vector<cv::Point2d> first_px(image.begin(), image.begin() + 4);
+  std::vector<cv::Mat> rvecs, tvecs;
+  cv::solvePnPGeneric(first, first_px, k, dist, rvecs, tvecs, false, cv::SOLVEPNP_IPPE);
+  PoseFit best;
+  double best_error = 1e300;
+  for (size_t i = 0; i < rvecs.size(); ++i) {
+    const cv::Vec3d r(rvecs[i]), t(tvecs[i]);
+    if (mount_of(r, t).xyz_m.z() <= 0.0) continue;
+    std::vector<cv::Point2d> projected;
+    cv::projectPoints(object, r, t, k, dist, projected);
+    double e = 0.0;
+    for (size_t j = 0; j < image.size(); ++j) e += std::pow(cv::norm(projected[j] - image[j]), 2);
+    if (e < best_error) {
+      best_error = e;
+      best = {r, t};
+    }
+  }
+  if (best_error == 1e300) throw InputError("the tags give no camera pose above the floor");
+  cv::solvePnPRefineLM(
+      object, image, k, dist, best.r, best.t,
+      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-12));
+  return best;
+}
+
+double rms_of(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
+              const PoseFit& pose, const cv::Mat& k, const cv::Mat& dist) {
+  std::vector<cv::Point2d> projected;
+  cv::projectPoints(object, pose.r, pose.t, k, dist, projected);
+  double sum = 0.0;
+  for (size_t j = 0; j < image.size(); ++j) sum += std::pow(cv::norm(projected[j] - image[j]), 2);
+  return std::sqrt(sum / std::max<size_t>(1, image.size()));
+}
+
 }  // namespace
 
 std::array<Eigen::Vector3d, 4> tag_corners_in_vehicle(const FloorTagPose& tag) {
@@ -57,6 +101,7 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
 
   std::vector<cv::Point3d> object;
   std::vector<cv::Point2d> image;
+  std::vector<int> point_tag;  // which tag each point is a corner of
   std::map<int, int> seen;
   MountCalibration result;
 
@@ -69,6 +114,7 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
       for (int k = 0; k < 4; ++k) {
         object.emplace_back(corners[k].x(), corners[k].y(), corners[k].z());
         image.push_back(d.corners_px[k]);
+        point_tag.push_back(d.id);
       }
       ++seen[d.id];
       used = true;
@@ -84,35 +130,106 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
                      "; at least one whole tag is needed");
   }
   result.tags_seen = static_cast<int>(seen.size());
-  result.points = static_cast<int>(object.size());
 
   const cv::Mat k(intrinsics.camera_matrix);
-  const cv::Mat dist(intrinsics.distortion);
-  // Start: IPPE on the first tag's corners (a square), of its two solutions the one whose
-  // camera is above the floor and which reprojects all points best; then all points, LM.
-  std::vector<cv::Point3d> first(object.begin(), object.begin() + 4);
-  std::vector<cv::Point2d> first_px(image.begin(), image.begin() + 4);
-  std::vector<cv::Mat> rvecs, tvecs;
-  cv::solvePnPGeneric(first, first_px, k, dist, rvecs, tvecs, false, cv::SOLVEPNP_IPPE);
-  cv::Vec3d best_r, best_t;
-  double best_error = 1e300;
-  for (size_t i = 0; i < rvecs.size(); ++i) {
-    const cv::Vec3d r(rvecs[i]), t(tvecs[i]);
-    if (mount_of(r, t).xyz_m.z() <= 0.0) continue;
-    std::vector<cv::Point2d> projected;
-    cv::projectPoints(object, r, t, k, dist, projected);
-    double e = 0.0;
-    for (size_t j = 0; j < image.size(); ++j) e += std::pow(cv::norm(projected[j] - image[j]), 2);
-    if (e < best_error) {
-      best_error = e;
-      best_r = r;
-      best_t = t;
-    }
+  cv::Mat dist(intrinsics.distortion);
+  if (intrinsics.fisheye) {
+    // The corners as a pinhole camera with the same matrix would see them.
+    const CameraModel camera(intrinsics, MountPose{});
+    const std::vector<cv::Point2d> normalised = camera.undistort(image);
+    for (size_t j = 0; j < image.size(); ++j)
+      image[j] = {k.at<double>(0, 0) * normalised[j].x + k.at<double>(0, 2),
+                  k.at<double>(1, 1) * normalised[j].y + k.at<double>(1, 2)};
+    dist = cv::Mat();
   }
-  if (best_error == 1e300) throw InputError("the tags give no camera pose above the floor");
-  cv::solvePnPRefineLM(
-      object, image, k, dist, best_r, best_t,
-      cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-12));
+  PoseFit pose = fit_pose(object, image, k, dist);
+
+  // Each tag against the mount the others give (one fit without it): a tag far off drags a
+  // joint fit towards it and hides among the residuals. The worst tag that disagrees is left
+  // out, while three tags remain to compare.
+  auto points_of = [&](int id, bool of_tag) {
+    std::vector<cv::Point3d> o;
+    std::vector<cv::Point2d> i;
+    for (size_t j = 0; j < object.size(); ++j) {
+      if ((point_tag[j] == id) == of_tag) {
+        o.push_back(object[j]);
+        i.push_back(image[j]);
+      }
+    }
+    return std::make_pair(o, i);
+  };
+  std::map<int, bool> excluded;
+  for (;;) {
+    std::vector<int> ids;
+    for (const auto& [id, count] : seen)
+      if (!excluded[id]) ids.push_back(id);
+    if (ids.size() < 3) break;
+    int worst = -1;
+    double worst_px = 0.0;
+    PoseFit worst_pose;
+    for (int id : ids) {
+      const auto [others_o, others_i] = points_of(id, false);
+      const PoseFit without = fit_pose(others_o, others_i, k, dist);
+      const auto [o, i] = points_of(id, true);
+      const double off_px = rms_of(o, i, without, k, dist);
+      const double others_px = rms_of(others_o, others_i, without, k, dist);
+      if (off_px > std::max(1.0, 4.0 * others_px) && off_px > worst_px) {
+        worst = id;
+        worst_px = off_px;
+        worst_pose = without;
+      }
+    }
+    if (worst < 0) break;
+    pose = worst_pose;
+    std::map<int, double> tag_rms{{worst, worst_px}};
+    excluded[worst] = true;
+    auto [o, i] = points_of(worst, true);
+    // How far off on the floor: the residual in pixels at the tag's distance from the camera.
+    const MountPose m = mount_of(pose.r, pose.t);
+    const double depth_m = (Eigen::Vector3d(o[0].x, o[0].y, 0.0) - m.xyz_m).norm();
+    char text[300];
+    std::snprintf(text, sizeof(text),
+                  "tag %d disagrees with the others: its corners are %.1f px off (about %.0f mm on "
+                  "the floor); its pose in TAGS.yaml is likely wrong",
+                  worst, tag_rms[worst], 1e3 * tag_rms[worst] * depth_m / k.at<double>(0, 0));
+    std::string warning = text;
+    // A tag lying turned: its corners fit when the order is turned by a quarter turn or more.
+    for (int quarter = 1; quarter < 4; ++quarter) {
+      std::vector<cv::Point3d> turned(o.size());
+      for (size_t j = 0; j < o.size(); ++j) turned[j] = o[(j / 4) * 4 + (j % 4 + quarter) % 4];
+      if (rms_of(turned, i, pose, k, dist) < 0.25 * tag_rms[worst]) {
+        warning += " (it lies turned by " + std::to_string(90 * quarter) +
+                   " deg from its yaw_rad in TAGS.yaml)";
+        break;
+      }
+    }
+    result.warnings.push_back(warning + "; the mount is refitted without it");
+    std::vector<cv::Point3d> kept_object;
+    std::vector<cv::Point2d> kept_image;
+    std::vector<int> kept_tag;
+    for (size_t j = 0; j < object.size(); ++j) {
+      if (excluded[point_tag[j]]) continue;
+      kept_object.push_back(object[j]);
+      kept_image.push_back(image[j]);
+      kept_tag.push_back(point_tag[j]);
+    }
+    object = kept_object;
+    image = kept_image;
+    point_tag = kept_tag;
+    pose = fit_pose(object, image, k, dist);
+  }
+  for (const auto& [id, count] : seen) {
+    TagResidual residual;
+    residual.id = id;
+    residual.excluded = excluded[id];
+    if (!residual.excluded) {
+      const auto [o, i] = points_of(id, true);
+      residual.rms_px = rms_of(o, i, pose, k, dist);
+    }
+    result.tags.push_back(residual);
+  }
+  result.points = static_cast<int>(object.size());
+  const cv::Vec3d best_r = pose.r, best_t = pose.t;
 
   std::vector<cv::Point2d> projected;
   cv::Mat jacobian;

@@ -30,9 +30,17 @@ struct FloorTagsFile {
   std::vector<FloorTagPose> tags;
 };
 
+// How well one tag's corners agree with the fitted mount.
+struct TagResidual {
+  int id = 0;
+  double rms_px = 0.0;
+  bool excluded = false;  // disagreed with the others: the mount was refitted without it
+};
+
 struct MountCalibration {
   MountPose mount;
-  double rms_px = 0.0;  // reprojection RMS of all tag corners
+  std::vector<TagResidual> tags;  // by id
+  double rms_px = 0.0;            // reprojection RMS of all tag corners
   int frames_used = 0, tags_seen = 0, points = 0;
   // Standard deviations of x, y, z (m) and roll, pitch, yaw (rad) of the mount, from the
   // Jacobian of the reprojection at the solution and the residual RMS.
@@ -43,7 +51,11 @@ struct MountCalibration {
 // The camera's mount from tags on the floor at known poses: one joint PnP over every corner of
 // every known tag in every frame (the vehicle does not move between frames), started from the
 // single-tag IPPE solution with the camera above the floor and refined by Levenberg-Marquardt
-// over all points (a per-tag solution alone can flip for a camera looking down). Throws
+// over all points (a per-tag solution alone can flip for a camera looking down). A tag whose
+// corners disagree with the others (RMS above max(1 px, 4x the median tag's): its pose in
+// TAGS.yaml is off, or it lies turned) is named in a warning, with how far off it is and, when
+// turning it by 90, 180 or 270 deg fits, by how much it is turned, and the mount is refitted
+// without it (while two tags remain). A fisheye camera's corners are undistorted first. Throws
 // InputError when fewer than 4 corners (one tag) are seen in all frames, naming what was
 // searched.
 MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,

@@ -160,6 +160,8 @@ int run_mount(const CalibrateArgs& args) {
     j["tags_seen"] = m.tags_seen;
     j["points"] = m.points;
     j["description"] = m.mount.describe();
+    for (const perception::TagResidual& t : m.tags)
+      j["per_tag"].push_back({{"id", t.id}, {"rms_px", t.rms_px}, {"excluded", t.excluded}});
     j["warnings"] = m.warnings;
     std::cout << j.dump(2) << '\n';
   } else {
@@ -170,6 +172,13 @@ int run_mount(const CalibrateArgs& args) {
                 m.mount.rpy_rad.y(), m.mount.rpy_rad.z(), m.sigma[3] * deg, m.sigma[4] * deg,
                 m.sigma[5] * deg);
     std::printf("camera %s\n", m.mount.describe().c_str());
+    for (const perception::TagResidual& t : m.tags) {
+      if (t.excluded) {
+        std::printf("tag %d: left out (disagrees with the others)\n", t.id);
+      } else {
+        std::printf("tag %d: RMS %.3f px\n", t.id, t.rms_px);
+      }
+    }
     if (before) {
       const Eigen::Vector3d d = m.mount.xyz_m - before->xyz_m;
       std::printf("change from %s: %.1f mm (%.1f, %.1f, %.1f)\n", args.camera_file.c_str(),

@@ -6,6 +6,9 @@
 #include <cmath>
 #include <numbers>
 
+#include <opencv2/calib3d.hpp>
+
+#include "perception/camera_file.h"
 #include "support/test_scenes.h"
 
 namespace agv::perception {
@@ -104,6 +107,40 @@ TEST(CameraModel, RaysAboveTheHorizonMissTheFloor) {
   EXPECT_FALSE(
       camera.pixel_to_floor({319.5, 0.0}).has_value());  // image top looks above the horizon
   EXPECT_TRUE(camera.pixel_to_floor({319.5, 479.0}).has_value());
+}
+
+// A fisheye lens (OpenCV's equidistant model): a floor point's pixel is what
+// cv::fisheye::distortPoints makes of its pinhole projection (OpenCV's own code, not the
+// camera model's), and the pixel reads back to the point. A camera file keeps the model.
+TEST(CameraModel, FisheyeLensProjectsAsOpenCvsFisheyeModel) {
+  CameraIntrinsics fisheye;
+  fisheye.camera_matrix = cv::Matx33d(310, 0, 326, 0, 310, 310, 0, 0, 1);
+  fisheye.width_px = fisheye.height_px = 640;
+  fisheye.distortion = {0.03, -0.01, 0.004, -0.001};
+  fisheye.fisheye = true;
+  const CameraModel camera(fisheye, testing::straight_down_mount(0.30, 0.0, 0.20));
+  for (const Eigen::Vector2d& floor :
+       {Eigen::Vector2d(0.30, 0.0), Eigen::Vector2d(0.45, 0.12), Eigen::Vector2d(0.20, -0.25)}) {
+    const auto pixel = camera.floor_to_pixel(floor);
+    ASSERT_TRUE(pixel);
+    const Eigen::Vector3d p_camera =
+        camera.mount().rotation().transpose() *
+        (Eigen::Vector3d(floor.x(), floor.y(), 0.0) - camera.mount().xyz_m);
+    std::vector<cv::Point2d> normalised{{p_camera.x() / p_camera.z(), p_camera.y() / p_camera.z()}},
+        distorted;
+    cv::fisheye::distortPoints(normalised, distorted, cv::Mat(fisheye.camera_matrix),
+                               cv::Mat(fisheye.distortion));
+    EXPECT_NEAR(pixel->x, distorted[0].x, 1e-6);
+    EXPECT_NEAR(pixel->y, distorted[0].y, 1e-6);
+    const auto back = camera.pixel_to_floor(*pixel);
+    ASSERT_TRUE(back);
+    EXPECT_NEAR((*back - floor).norm(), 0.0, 1e-7);
+  }
+  CameraFile file;
+  file.intrinsics = fisheye;
+  const CameraFile read = parse_camera_text(camera_file_text(file), "fisheye.yaml");
+  EXPECT_TRUE(read.intrinsics.fisheye);
+  EXPECT_EQ(read.intrinsics.distortion, fisheye.distortion);
 }
 
 }  // namespace
