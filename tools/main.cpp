@@ -9,6 +9,7 @@
 #include "tools/bench_command.h"
 #include "tools/calibrate_command.h"
 #include "tools/compare_command.h"
+#include "tools/detect_tags_command.h"
 #include "tools/evaluate_command.h"
 #include "tools/record_command.h"
 #include "tools/replay_command.h"
@@ -37,6 +38,8 @@ int main(int argc, char** argv) {
   agv::tools::add_compare_command(app, compare);
   agv::tools::TrackArgs track;
   agv::tools::add_track_command(app, track);
+  agv::tools::DetectTagsArgs detect_tags;
+  agv::tools::add_detect_tags_command(app, detect_tags);
 
   // OpenCV's own warnings (a GStreamer pipeline that cannot report its position, ...) are not
   // the user's concern; errors it cannot recover from still reach us as failures.
@@ -57,6 +60,7 @@ int main(int argc, char** argv) {
     if (command == "calibrate") return agv::tools::run_calibrate(calibrate);
     if (command == "compare") return agv::tools::run_compare(compare);
     if (command == "track") return agv::tools::run_track_command(track);
+    if (command == "detect-tags") return agv::tools::run_detect_tags(detect_tags);
   } catch (const agv::InputError& e) {
     std::cerr << "agv " << command << ": error: " << e.what() << '\n';
     return 2;
