@@ -200,6 +200,7 @@ void add_compare_command(CLI::App& app, CompareArgs& args) {
       "except the measured compute times and the threaded runs.");
   sub->add_option("--suite", args.suite_file, "Suite YAML (default: the built-in default suite)");
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
+  sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
   sub->add_option("--jobs", args.jobs, "Runs in parallel (default: one per processor)")
       ->check(CLI::Range(1, 256));
   sub->add_option("--seed", args.seed,
@@ -248,7 +249,7 @@ int run_compare(const CompareArgs& args) {
                                         bar.update(static_cast<double>(done) / total);
                                       });
   }
-  pipeline::OutputFolder folder(args.out_dir, kPlanFile);
+  pipeline::OutputFolder folder(args.out_dir, kPlanFile, args.force);
   write_runs(folder, plan, k, n, runs);
   std::vector<std::string> warnings;
   if (n == 1) warnings = write_compare_report(folder.file(""), plan, runs);

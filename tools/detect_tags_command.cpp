@@ -98,10 +98,7 @@ int run_detect_tags(const DetectTagsArgs& args) {
   }
   const perception::AprilTagDetector& detector = *made;
   if (!fs::exists(args.input)) throw InputError(args.input + ": no such folder or video file");
-  if (!args.out.empty() && fs::exists(args.out) && !args.force)
-    throw InputError(args.out + ": exists; pass --force to replace it, or another --out");
-  if (!args.out.empty() && fs::exists(args.out)) fs::remove_all(args.out);
-  pipeline::OutputFolder folder(args.out, "detections.csv");
+  pipeline::OutputFolder folder(args.out, "detections.csv", args.force);
 
   std::ofstream csv(folder.file("detections.csv"));
   csv << "file,family,id,hamming,decision_margin,x0_px,y0_px,x1_px,y1_px,x2_px,y2_px,x3_px,"

@@ -32,6 +32,7 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       ->check(CLI::Range(0, 10000));
   sub->add_option("--seed", args.seed, "Seed (same seed, same frames)");
   sub->add_option("--out", args.out_dir, "Also write frames.csv and summary.json to this folder");
+  sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
   sub->add_option(
       "--save-failures", args.save_failures,
       "Write annotated frames that were missed, off by more than 1 mm / 0.5 deg, or gave a line "
@@ -54,7 +55,7 @@ int run_evaluate(const EvaluateArgs& args) {
   }
   const nlohmann::json& j = result.summary;
   if (!args.out_dir.empty()) {
-    pipeline::OutputFolder folder(args.out_dir);
+    pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
     std::ofstream csv(folder.file("frames.csv"));
     csv << "condition,has_tape,curved,visible_fraction,line_found,error_e_d_m,error_e_theta_rad,"
            "near_error_offset_m,near_error_heading_rad,perceive_ms,baseline_found,baseline_error_e_"

@@ -12,6 +12,7 @@ struct EvaluateArgs {
   int empty_conditions = 20;
   unsigned seed = 1;
   std::string out_dir;
+  bool force = false;  // --force: replace an existing output folder
   std::string save_failures;
   bool json = false;
   bool quiet = false;

@@ -28,6 +28,7 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
   sub->add_option("--set", args.overrides, "Override one scenario key, e.g. --set duration_s=3")
       ->type_name("KEY=VALUE");
   sub->add_option("--out", args.out_dir, "Dataset folder to write")->required();
+  sub->add_flag("--force", args.force, "Replace an existing dataset folder (a previous recording)");
   sub->add_option("--format", args.format, "Frame format")->check(CLI::IsMember({"png", "jpg"}));
   sub->add_option("--jpeg-quality", args.jpeg_quality, "JPEG quality (with --format jpg)")
       ->check(CLI::Range(10, 100));
@@ -37,7 +38,7 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
 int run_record(const RecordArgs& args) {
   const pipeline::Scenario scenario =
       pipeline::load_scenario_for_command(args.scenario_file, args.overrides);
-  pipeline::OutputFolder folder(args.out_dir, "manifest.csv");
+  pipeline::OutputFolder folder(args.out_dir, "manifest.csv", args.force);
   perception::CameraFile camera = scenario.camera;
   camera.tape_width_m = scenario.tape.width_m;
   if (scenario.tape_color_hint) camera.tape_color_bgr = scenario.tape.color_bgr;

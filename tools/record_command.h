@@ -11,6 +11,7 @@ struct RecordArgs {
   std::string scenario_file;
   std::vector<std::string> overrides;
   std::string out_dir;
+  bool force = false;  // --force: replace an existing output folder
   std::string format = "png";
   int jpeg_quality = 90;
   bool quiet = false;

@@ -46,7 +46,7 @@ int run_replay_command(const ReplayArgs& args) {
     throw InputError(args.source + ": a live " + setup.opened.kind +
                      " cannot be replayed; track it with agv track");
   }
-  pipeline::OutputFolder folder(args.out_dir);
+  pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
   FrameAnnotator annotator(folder, setup, !args.no_video);
   pipeline::RecordedRunOptions options;
   options.perception = setup.perception;

@@ -23,6 +23,7 @@ struct SourceArgs {
   bool no_video = false;  // replay: --no-video
   bool video = false;     // track: --video
   std::string out_dir;
+  bool force = false;  // --force: replace an existing output folder
   bool json = false;
   bool quiet = false;
 };

@@ -47,6 +47,7 @@ void add_simulate_command(CLI::App& app, SimulateArgs& args) {
                   "controller.finite_step.horizon=shrinking")
       ->type_name("KEY=VALUE");
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
+  sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
   sub->add_flag("--json", args.json, "Print summary.json on stdout instead of the summary line");
   sub->add_flag("--no-plots", args.no_plots, "Skip errors.png and path.png");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
@@ -56,7 +57,7 @@ int run_simulate(const SimulateArgs& args) {
   const pipeline::Scenario scenario =
       pipeline::load_scenario_for_command(args.scenario_file, args.overrides);
 
-  pipeline::OutputFolder folder(args.out_dir);
+  pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
   pipeline::RunResult run;
   {
     ProgressBar bar("simulating " + std::to_string(scenario.duration_s).substr(0, 4) + " s",

@@ -67,6 +67,7 @@ void add_source_options(CLI::App* sub, SourceArgs& args, const std::string& sour
                   "Also write annotated.avi (costs the camera thread a few ms a frame)");
   }
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
+  sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
   sub->add_flag("--json", args.json, "Print summary.json (with the output folder) on stdout");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
   sub->add_option("source", args.source, sources)->required();

@@ -99,7 +99,7 @@ int run_track_command(const TrackArgs& args) {
   if (args.as_fast_as_possible && source.live())
     throw InputError("--as-fast-as-possible: " + args.source + " is a live " + setup.opened.kind +
                      "; its frames come when they come");
-  pipeline::OutputFolder folder(args.out_dir);
+  pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
   pipeline::CommandStream commands(folder.file("commands.jsonl"), args.udp);
   FrameAnnotator annotator(folder, setup, args.video);
   pipeline::RecordedRunOptions options;

@@ -25,12 +25,16 @@ fs::path timestamped_run_folder() {
 
 }  // namespace
 
-OutputFolder::OutputFolder(const std::string& target, const std::string& marker) {
+OutputFolder::OutputFolder(const std::string& target, const std::string& marker, bool replace) {
   target_ = target.empty() ? timestamped_run_folder() : fs::path(target);
   std::error_code error;
   if (fs::exists(target_, error)) {
     if (!fs::is_directory(target_, error))
       throw InputError(target_.string() + ": exists and is not a folder");
+    if (!fs::is_empty(target_, error) && !replace) {
+      throw InputError(target_.string() +
+                       ": exists; pass --force to replace it, or choose another --out");
+    }
     if (!fs::is_empty(target_, error) && !fs::exists(target_ / marker, error)) {
       throw InputError(target_.string() +
                        ": folder exists and does not hold a previous result (no " + marker +

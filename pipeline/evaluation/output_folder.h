@@ -10,10 +10,11 @@ namespace agv::pipeline {
 // a result. Without commit() the temporary folder is removed.
 class OutputFolder {
  public:
-  // `target` empty: runs/<YYYYmmdd-HHMMSS>[-N] under the working directory. An existing target
-  // is replaced only if it holds a previous result (a file named `marker`, summary.json for
-  // runs); otherwise InputError.
-  explicit OutputFolder(const std::string& target, const std::string& marker = "summary.json");
+  // `target` empty: runs/<YYYYmmdd-HHMMSS>[-N] under the working directory. An existing, non-empty
+  // target is replaced only when `replace` (the user's --force) and only if it holds a previous
+  // result (a file named `marker`, summary.json for runs); otherwise InputError.
+  explicit OutputFolder(const std::string& target, const std::string& marker = "summary.json",
+                        bool replace = false);
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
   OutputFolder& operator=(const OutputFolder&) = delete;

@@ -41,5 +41,14 @@ TEST(VehicleLimits, SpeedsAreClampedAndChecked) {
   EXPECT_EQ(check_limits({0.0, 0.0, 0.5}, {0.0, 0.0, 0.0}, kLimits, kTs), kViolatesYawAcceleration);
 }
 
+// A step sideways only: (0, 0.3) m/s in one period is 3 m/s^2, six times a_max. The check must
+// see lateral acceleration as well as forward (the drive's wheels deliver both).
+TEST(VehicleLimits, LateralAccelerationCountsAsAcceleration) {
+  EXPECT_EQ(check_limits({0.3, 0.3, 0.0}, {0.3, 0.0, 0.0}, kLimits, kTs), kViolatesAcceleration);
+  const BodyTwist out = limit_command({0.3, 0.3, 0.0}, {0.3, 0.0, 0.0}, kLimits, kTs);
+  EXPECT_NEAR(out.vy_m_s, 0.05, 1e-12);
+  EXPECT_DOUBLE_EQ(out.vx_m_s, 0.3);
+}
+
 }  // namespace
 }  // namespace agv::control

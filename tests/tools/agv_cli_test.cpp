@@ -65,6 +65,25 @@ TEST_F(AgvCli, JsonSummaryOnStdout) {
   EXPECT_EQ(nlohmann::json::parse(r.output.substr(brace))["frames"], 11);
 }
 
+// An existing output folder is replaced only when the user asks (--force), and then only when
+// it holds a previous result; a folder of something else is never removed.
+TEST_F(AgvCli, AnExistingOutputFolderIsReplacedOnlyWithForce) {
+  const std::string simulate = "simulate --quiet --no-plots --set duration_s=0.3 --out ";
+  ASSERT_EQ(run(simulate + path("run")).exit_code, 0);
+  std::ofstream(dir_ / "run" / "mine.txt") << "kept unless replaced";
+  const Result again = run(simulate + path("run"));
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("--force"), std::string::npos) << again.output;
+  EXPECT_TRUE(fs::exists(dir_ / "run" / "mine.txt"));
+  EXPECT_EQ(run(simulate + path("run") + " --force").exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "run" / "mine.txt"));
+  fs::create_directories(dir_ / "photos");
+  std::ofstream(dir_ / "photos" / "holiday.jpg") << "not a result";
+  const Result foreign = run(simulate + path("photos") + " --force");
+  EXPECT_EQ(foreign.exit_code, 2) << foreign.output;
+  EXPECT_TRUE(fs::exists(dir_ / "photos" / "holiday.jpg"));
+}
+
 // Bad input: one message naming the file or option and the key, exit code 2, no output folder.
 TEST_F(AgvCli, BadInputExitsWithCode2AndLeavesNoResult) {
   std::ofstream(path("typo.yaml")) << "controller:\n  ts: 0.1\n";
