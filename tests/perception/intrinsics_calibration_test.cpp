@@ -18,23 +18,24 @@
 namespace agv::perception {
 namespace {
 
-// An AprilTag grid board (6 x 5 tags of 25 mm, 35 mm apart) lying on the floor, seen by the
+// An AprilTag grid board (6 x 5 tags of 25 mm, 35 mm apart along a row and 42 mm down a column:
+// a sheet whose pitch differs each way) lying on the floor, seen by the
 // project's default camera (384 px focal length, k1 -0.08, k2 0.02) from six poses: straight
 // down and tilted 20 deg four ways, and tilted 12 deg with the image turned 30 deg. The
 // calibration knows only the board: focal lengths within 0.5 %, principal point within 2 px
 // (rendered frames with sensor noise; a calibration this good on a real camera is typical of
 // 20-30 views, these are noise-light and exact-geometry), RMS under 0.3 px.
 TEST(IntrinsicsCalibration, AprilTagGridOnRenderedViewsRecoversTheIntrinsics) {
-  const BoardSpec board = parse_board("apriltag:6x5:0.025:0.035");
+  const BoardSpec board = parse_board("apriltag:6x5:0.025:0.035:0.042");
   pipeline::Scene scene;
   scene.seed = 9;
-  const double x0 = 0.30 - 2.5 * 0.035, y0 = 2.0 * 0.035;  // grid centred under the camera
+  const double x0 = 0.30 - 2.5 * 0.035, y0 = 2.0 * 0.042;  // grid centred under the camera
   for (int id = 0; id < 30; ++id) {
     pipeline::FloorTag tag;
     tag.id = id;
     tag.size_m = 0.025;
     // Printed rows run down the board: on the floor seen from above, towards -y.
-    tag.pose = {x0 + (id % 6) * 0.035, y0 - (id / 6) * 0.035, 0.0};
+    tag.pose = {x0 + (id % 6) * 0.035, y0 - (id / 6) * 0.042, 0.0};
     scene.tags.push_back(tag);
   }
   const struct {
