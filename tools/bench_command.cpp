@@ -19,6 +19,7 @@
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/sim/frame_renderer.h"
+#include "tools/build_info.h"
 
 namespace agv::tools {
 namespace {
@@ -146,6 +147,7 @@ int run_bench(const BenchArgs& args) {
   j["control_us_p99"] = percentile(control_us, 0.99);
   j["closed_loop_fps"] = closed_loop_fps;
   j["setup_ms"] = 1e3 * run.setup_wall_s;
+  j["agv"] = build_json();
   if (args.json) {
     std::cout << j.dump(2) << '\n';
     return 0;

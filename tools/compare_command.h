@@ -10,7 +10,7 @@ namespace agv::tools {
 struct CompareArgs {
   std::string suite_file;               // empty: the built-in default suite
   std::string out_dir;                  // empty: runs/<timestamp>
-  bool force = false;  // --force: replace an existing output folder
+  bool force = false;                   // --force: replace an existing output folder
   int jobs = 0;                         // worker threads (0: one per processor)
   int monte_carlo_runs = 0;             // > 0: a Monte Carlo study instead of the suite
   std::string shard;                    // "K/N": run only slice K of N

@@ -10,10 +10,10 @@
 #include <sstream>
 #include <tuple>
 
-
 #include "common/angles.h"
 #include "common/input_error.h"
 #include "common/statistics.h"
+#include "tools/build_info.h"
 #include "tools/gnuplot.h"
 #include "tools/report_table.h"
 
@@ -248,7 +248,8 @@ std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePl
   std::string md = "# agv compare: " + plan_heading(plan, runs.size()) + "\n\n" + legend + "\n\n";
   std::string html = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: " +
                      html_escape(plan.suite_name) + "</title>\n" + kStyle + "</head><body>\n" +
-                     "<h1>agv compare</h1>\n<p>" + html_escape(plan_heading(plan, runs.size())) +
+                     "<h1>agv compare</h1>\n<p>" + html_escape(build_words()) + "</p>\n<p>" +
+                     html_escape(plan_heading(plan, runs.size())) +
                      ". Tables: <a href=\"table.md\">table.md</a>, <a href=\"table.csv\">" +
                      "table.csv</a>; traces: series/*.csv.</p>\n<p>" + html_escape(legend) +
                      "</p>\n";
@@ -430,7 +431,8 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
              "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: Monte "
              "Carlo</title>\n" +
                  std::string(kStyle) + "</head><body>\n<h1>agv compare: Monte Carlo</h1>\n<p>" +
-                 html_escape(heading) + ". Tables: <a href=\"summary.csv\">summary.csv</a>, " +
+                 html_escape(build_words()) + "</p>\n<p>" + html_escape(heading) +
+                 ". Tables: <a href=\"summary.csv\">summary.csv</a>, " +
                  "<a href=\"monte_carlo.csv\">monte_carlo.csv</a> (every run).</p>\n<p>" +
                  html_escape(legend) + "</p>\n" + table.html("never") +
                  (failure.empty() ? "<img src=\"histograms.png\" alt=\"histograms\">\n"

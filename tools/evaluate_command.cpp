@@ -9,6 +9,7 @@
 #include "common/input_error.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "pipeline/evaluation/perception_benchmark.h"
+#include "tools/build_info.h"
 #include "tools/progress_bar.h"
 
 namespace agv::tools {
@@ -53,7 +54,8 @@ int run_evaluate(const EvaluateArgs& args) {
     ProgressBar bar("evaluating perception", !args.quiet);
     result = pipeline::run_perception_benchmark(options, [&](double f) { bar.update(f); });
   }
-  const nlohmann::json& j = result.summary;
+  nlohmann::json j = result.summary;
+  j["agv"] = build_json();
   if (!args.out_dir.empty()) {
     pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
     std::ofstream csv(folder.file("frames.csv"));

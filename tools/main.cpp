@@ -7,6 +7,7 @@
 
 #include "common/input_error.h"
 #include "tools/bench_command.h"
+#include "tools/build_info.h"
 #include "tools/calibrate_command.h"
 #include "tools/compare_command.h"
 #include "tools/detect_tags_command.h"
@@ -20,7 +21,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "agv: vision-in-the-loop AGV path tracker (perception, finite-step control, closed-loop "
       "simulation)"};
-  app.set_version_flag("--version", "agv 0.1.0");
+  app.set_version_flag("--version", "agv " + agv::tools::agv_version() + " (commit " +
+                                        agv::tools::agv_commit() + ")");
   app.require_subcommand(1);
   agv::tools::SimulateArgs simulate;
   agv::tools::BenchArgs bench;

@@ -14,6 +14,7 @@
 #include "pipeline/evaluation/metrics.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "pipeline/evaluation/trace_csv.h"
+#include "tools/build_info.h"
 #include "tools/progress_bar.h"
 #include "tools/run_plots.h"
 
@@ -65,7 +66,8 @@ int run_simulate(const SimulateArgs& args) {
     run = pipeline::run_scenario(scenario, [&](double f) { bar.update(f); });
   }
   const pipeline::RunMetrics metrics = pipeline::compute_metrics(run, scenario);
-  const nlohmann::json summary = pipeline::summary_json(metrics, run, scenario);
+  nlohmann::json summary = pipeline::summary_json(metrics, run, scenario);
+  summary["agv"] = build_json();
   {
     std::ofstream trace(folder.file("trace.csv"));
     pipeline::write_trace_csv(trace, run);

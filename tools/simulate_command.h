@@ -11,7 +11,7 @@ struct SimulateArgs {
   std::string scenario_file;           // empty: the built-in default scenario
   std::vector<std::string> overrides;  // "key=value"
   std::string out_dir;                 // empty: runs/<timestamp>
-  bool force = false;  // --force: replace an existing output folder
+  bool force = false;                  // --force: replace an existing output folder
   bool json = false;                   // print summary.json instead of the summary line
   bool no_plots = false;
   bool quiet = false;

@@ -14,6 +14,7 @@
 #include "pipeline/command_stream.h"
 #include "pipeline/evaluation/frame_annotation.h"
 #include "pipeline/evaluation/trace_csv.h"
+#include "tools/build_info.h"
 #include "tools/gnuplot.h"
 
 namespace agv::tools {
@@ -217,6 +218,7 @@ void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult
                        const SourceSetup& setup, nlohmann::json summary, const std::string& what,
                        const std::string& command, bool json) {
   const bool has_truth = setup.opened.has_truth;
+  summary["agv"] = build_json();
   {
     std::ofstream csv(folder.file("measurements.csv"));
     pipeline::write_measurements_csv(csv, result.frames, has_truth);

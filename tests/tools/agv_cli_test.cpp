@@ -62,7 +62,16 @@ TEST_F(AgvCli, JsonSummaryOnStdout) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const size_t brace = r.output.find('{');
   ASSERT_NE(brace, std::string::npos);
-  EXPECT_EQ(nlohmann::json::parse(r.output.substr(brace))["frames"], 11);
+  const nlohmann::json j = nlohmann::json::parse(r.output.substr(brace));
+  EXPECT_EQ(j["frames"], 11);
+  // Which program made it: version, commit (12 hex digits, or "unknown" outside a clone), date.
+  const std::string commit = j["agv"]["commit"].get<std::string>();
+  EXPECT_TRUE(
+      commit == "unknown" ||
+      (commit.size() == 12 && commit.find_first_not_of("0123456789abcdef") == std::string::npos))
+      << commit;
+  EXPECT_FALSE(j["agv"]["version"].get<std::string>().empty());
+  EXPECT_EQ(j["agv"]["date"].get<std::string>().size(), 24u) << j["agv"]["date"];
 }
 
 // An existing output folder is replaced only when the user asks (--force), and then only when
