@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <thread>
 
@@ -15,6 +16,7 @@
 #include "pipeline/evaluation/compare_plan.h"
 #include "pipeline/evaluation/compare_run.h"
 #include "pipeline/evaluation/output_folder.h"
+#include "tools/build_info.h"
 #include "tools/compare_report.h"
 #include "tools/progress_bar.h"
 
@@ -224,10 +226,15 @@ void add_compare_command(CLI::App& app, CompareArgs& args) {
       ->excludes("--seed")
       ->excludes("--monte-carlo");  // the shards' plan says what was run
   sub->add_flag("--quiet", args.quiet, "No progress bar");
+  sub->add_flag("--json", args.json,
+                "Print the result as JSON (every run's settle time, max |e_d|, limit violations; "
+                "null settle: never within the bands) instead of the text summary");
 }
 
 int run_compare(const CompareArgs& args) {
   const auto start = std::chrono::steady_clock::now();
+  // The output folder first: a folder that may not be replaced is refused before the runs.
+  pipeline::OutputFolder folder(args.out_dir, kPlanFile, args.force);
   ComparePlan plan;
   std::vector<CompareRun> runs;
   int k = 1, n = 1;
@@ -249,7 +256,6 @@ int run_compare(const CompareArgs& args) {
                                         bar.update(static_cast<double>(done) / total);
                                       });
   }
-  pipeline::OutputFolder folder(args.out_dir, kPlanFile, args.force);
   write_runs(folder, plan, k, n, runs);
   std::vector<std::string> warnings;
   if (n == 1) warnings = write_compare_report(folder.file(""), plan, runs);
@@ -258,6 +264,27 @@ int run_compare(const CompareArgs& args) {
 
   const double wall_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (args.json) {
+    nlohmann::json j;
+    j["runs"] = runs.size();
+    j["mode"] = plan.mode;
+    j["suite"] = plan.suite_name;
+    j["seed"] = plan.seed;
+    j["wall_s"] = wall_s;
+    j["output"] = folder.target().string();
+    j["agv"] = build_json();
+    for (const CompareRun& r : runs) {
+      j["per_run"].push_back(
+          {{"controller", r.controller},
+           {"scenario", r.scenario},
+           {"settle_s", r.metrics.settle_time_s ? nlohmann::json(*r.metrics.settle_time_s)
+                                                : nlohmann::json(nullptr)},
+           {"max_abs_e_d_m", r.metrics.max_abs_e_d_m},
+           {"limit_violations", r.metrics.limit_violations}});
+    }
+    std::cout << j.dump(2) << '\n';
+    return 0;
+  }
   if (n == 1) print_summary(plan, runs);
   std::printf(
       "compare: %zu runs (%s, suite '%s', seed %llu%s) in %.1f s\noutput: %s%s\n", runs.size(),

@@ -17,6 +17,7 @@ struct CompareArgs {
   std::vector<std::string> merge_dirs;  // join these shard folders instead of running
   long long seed = -1;                  // >= 0: replaces the suite's seed
   bool quiet = false;
+  bool json = false;
 };
 
 void add_compare_command(CLI::App& app, CompareArgs& args);

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 #include "common/angles.h"
 #include "common/input_error.h"
@@ -49,6 +50,9 @@ int run_evaluate(const EvaluateArgs& args) {
   options.empty_conditions = args.empty_conditions;
   options.seed = args.seed;
   options.save_failures_dir = args.save_failures;
+  // The output folder first: a folder that may not be replaced is refused before the work.
+  std::optional<pipeline::OutputFolder> folder;
+  if (!args.out_dir.empty()) folder.emplace(args.out_dir, "summary.json", args.force);
   pipeline::PerceptionBenchmarkResult result;
   {
     ProgressBar bar("evaluating perception", !args.quiet);
@@ -56,9 +60,8 @@ int run_evaluate(const EvaluateArgs& args) {
   }
   nlohmann::json j = result.summary;
   j["agv"] = build_json();
-  if (!args.out_dir.empty()) {
-    pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
-    std::ofstream csv(folder.file("frames.csv"));
+  if (folder) {
+    std::ofstream csv(folder->file("frames.csv"));
     csv << "condition,has_tape,curved,visible_fraction,line_found,error_e_d_m,error_e_theta_rad,"
            "near_error_offset_m,near_error_heading_rad,perceive_ms,baseline_found,baseline_error_e_"
            "d_m,baseline_error_e_theta_rad,baseline_ms,"
@@ -72,9 +75,9 @@ int run_evaluate(const EvaluateArgs& args) {
           << b.baseline_error_e_theta_rad << ',' << b.baseline_ms << ',' << b.conditions_text
           << '\n';
     }
-    std::ofstream(folder.file("summary.json")) << j.dump(2) << '\n';
-    if (!csv) throw InputError(folder.target().string() + ": cannot write the results");
-    folder.commit();
+    std::ofstream(folder->file("summary.json")) << j.dump(2) << '\n';
+    if (!csv) throw InputError(folder->target().string() + ": cannot write the results");
+    folder->commit();
   }
   if (args.json) {
     std::cout << j.dump(2) << '\n';

@@ -4,12 +4,14 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/dataset.h"
 #include "pipeline/evaluation/output_folder.h"
+#include "tools/build_info.h"
 #include "tools/progress_bar.h"
 
 namespace agv::tools {
@@ -33,6 +35,7 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
   sub->add_option("--jpeg-quality", args.jpeg_quality, "JPEG quality (with --format jpg)")
       ->check(CLI::Range(10, 100));
   sub->add_flag("--quiet", args.quiet, "No progress bar");
+  sub->add_flag("--json", args.json, "Print the result (frames, bytes, output folder) as JSON");
 }
 
 int run_record(const RecordArgs& args) {
@@ -69,6 +72,15 @@ int run_record(const RecordArgs& args) {
   std::uintmax_t bytes = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(folder.target())) {
     if (entry.is_regular_file()) bytes += entry.file_size();
+  }
+  if (args.json) {
+    nlohmann::json j;
+    j["frames"] = writer.frames();
+    j["bytes"] = bytes;
+    j["output"] = folder.target().string();
+    j["agv"] = build_json();
+    std::cout << j.dump(2) << '\n';
+    return 0;
   }
   std::printf("recorded %d frames (%.1f MB) to %s\n", writer.frames(), bytes / 1e6,
               folder.target().c_str());

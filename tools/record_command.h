@@ -15,6 +15,7 @@ struct RecordArgs {
   std::string format = "png";
   int jpeg_quality = 90;
   bool quiet = false;
+  bool json = false;
 };
 
 void add_record_command(CLI::App& app, RecordArgs& args);

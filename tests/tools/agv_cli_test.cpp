@@ -164,8 +164,11 @@ void write_lines(const fs::path& file, const std::vector<std::string>& lines) {
 // the files DESIGN.md names.
 TEST_F(AgvCli, RecordThenReplayRoundTrip) {
   const Result rec =
-      run("record --quiet --set duration_s=0.5 --format png --out " + path("dataset"));
+      run("record --quiet --json --set duration_s=0.5 --format png --out " + path("dataset"));
   ASSERT_EQ(rec.exit_code, 0) << rec.output;
+  const nlohmann::json recorded = nlohmann::json::parse(rec.output.substr(rec.output.find('{')));
+  EXPECT_EQ(recorded["frames"], 6);
+  EXPECT_EQ(recorded["output"], path("dataset"));
   for (const char* name : {"manifest.csv", "camera.yaml", "frames/000000.png", "frames/000005.png"})
     EXPECT_TRUE(fs::exists(dir_ / "dataset" / name)) << name;
   const Result rep =
