@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 
@@ -93,18 +94,37 @@ int run_simulate(const SimulateArgs& args) {
   if (args.json) {
     std::cout << summary.dump(2) << '\n';
   } else {
-    char line[512];
+    // What happened, in words a person reads: settle time or "never", perception only where
+    // the controller used the camera, and a stop for a lost line when there was one.
+    char line[640];
+    char perception[200] = "pose input (no perception)";
+    if (scenario.controller.input == pipeline::ControllerInput::kCamera)
+      std::snprintf(
+          perception, sizeof(perception), "perception rms %s mm / %s deg | frames lost %d/%d",
+          format_optional(metrics.perception_rms_e_d_m, 1e3, "%.3f").c_str(),
+          format_optional(metrics.perception_rms_e_theta_rad, 180.0 / M_PI, "%.3f").c_str(),
+          metrics.frames_lost, metrics.frames);
+    const std::string settle =
+        metrics.settle_time_s
+            ? "settle " + format_optional(metrics.settle_time_s, 1.0, "%.2f") + " s"
+            : std::string("never settled");
     std::snprintf(
         line, sizeof(line),
-        "settle %s s (bands %.1f mm / %.1f deg) | max |e_d| %.2f mm, max |e_theta| %.2f deg | "
-        "perception rms %s mm / %s deg | limit violations %d | frames lost %d/%d",
-        format_optional(metrics.settle_time_s, 1.0, "%.2f").c_str(),
-        1e3 * scenario.metrics.settle_band_e_d_m,
+        "%s (bands %.1f mm / %.1f deg) | max |e_d| %.2f mm, max |e_theta| %.2f deg | %s | "
+        "limit violations %d",
+        settle.c_str(), 1e3 * scenario.metrics.settle_band_e_d_m,
         rad_to_deg(scenario.metrics.settle_band_e_theta_rad), 1e3 * metrics.max_abs_e_d_m,
-        rad_to_deg(metrics.max_abs_e_theta_rad),
-        format_optional(metrics.perception_rms_e_d_m, 1e3, "%.3f").c_str(),
-        format_optional(metrics.perception_rms_e_theta_rad, 180.0 / M_PI, "%.3f").c_str(),
-        metrics.limit_violations, metrics.frames_lost, metrics.frames);
+        rad_to_deg(metrics.max_abs_e_theta_rad), perception, metrics.limit_violations);
+    std::string stops;
+    for (size_t i = 0; i < run.rows.size(); ++i) {
+      const bool stopping = run.rows[i].output.flags & control::kStopping;
+      const bool was = i > 0 && (run.rows[i - 1].output.flags & control::kStopping);
+      if (stopping && !was && (run.rows[i].output.flags & control::kLineLost))
+        stops += (stops.empty() ? "" : ", ") + format_optional(run.rows[i].t_s, 1.0, "%.1f") + " s";
+    }
+    if (!stops.empty())
+      std::snprintf(line + std::strlen(line), sizeof(line) - std::strlen(line),
+                    " | stopped for a lost line at %s", stops.c_str());
     std::cout << line;
     if (run.queue.dropped > 0) std::cout << " | queue dropped " << run.queue.dropped;
     for (const pipeline::WatchdogStall& stall : run.stalls) {

@@ -93,6 +93,27 @@ TEST_F(AgvCli, AnExistingOutputFolderIsReplacedOnlyWithForce) {
   EXPECT_TRUE(fs::exists(dir_ / "photos" / "holiday.jpg"));
 }
 
+// The summary line says what happened: a vehicle that stopped for a lost line says so (and when);
+// a run on the true pose has no perception to report; a run that never settles says "never".
+TEST_F(AgvCli, TheSummaryLineSaysWhatHappened) {
+  const std::string scenarios = std::string(AGV_SOURCE_DIR) + "/scenarios/";
+  const Result end = run("simulate --quiet --no-plots --scenario " + scenarios +
+                         "line_loss_tape_end.yaml --out " + path("end"));
+  ASSERT_EQ(end.exit_code, 0) << end.output;
+  EXPECT_NE(end.output.find("stopped for a lost line at"), std::string::npos) << end.output;
+  const Result pose =
+      run("simulate --quiet --no-plots --set controller.input=pose --set "
+          "duration_s=1 --out " +
+          path("pose"));
+  ASSERT_EQ(pose.exit_code, 0) << pose.output;
+  EXPECT_EQ(pose.output.find("perception rms"), std::string::npos) << pose.output;
+  EXPECT_NE(pose.output.find("pose input (no perception)"), std::string::npos) << pose.output;
+  const Result short_run =
+      run("simulate --quiet --no-plots --set duration_s=0.2 --out " + path("short"));
+  ASSERT_EQ(short_run.exit_code, 0) << short_run.output;
+  EXPECT_NE(short_run.output.find("never settled"), std::string::npos) << short_run.output;
+}
+
 // Bad input: one message naming the file or option and the key, exit code 2, no output folder.
 TEST_F(AgvCli, BadInputExitsWithCode2AndLeavesNoResult) {
   std::ofstream(path("typo.yaml")) << "controller:\n  ts: 0.1\n";
