@@ -237,7 +237,9 @@ std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePl
                             fixed(rad_to_deg(first.settle_band_e_theta_rad), 1) + " deg";
   const std::string legend =
       "Settle: the first time after which |e_d| and |e_θ| stay within " + bands +
-      " to the end of the run (n/a: never). RMS errors are over the samples after settling. "
+      " to the end of the run; never: they did not stay within the bands before the run ended (the "
+      "vehicle may still be converging, or oscillate about the tape). RMS errors are over the "
+      "samples after settling. "
       "Errors are the true ones (ground truth), once per control period. Compute per period is "
       "the controller's mean time, measured, so it varies from run to run.";
 
