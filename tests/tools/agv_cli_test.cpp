@@ -114,6 +114,37 @@ TEST_F(AgvCli, TheSummaryLineSaysWhatHappened) {
   EXPECT_NE(short_run.output.find("never settled"), std::string::npos) << short_run.output;
 }
 
+// README.md and the dataset READMEs quote what the program prints today (regenerate with
+// tools/readme_figures.sh): the default run's summary line, and each sample dataset's replay
+// line without its time per frame. A change of behaviour that moves a figure fails here until
+// the README says so.
+TEST_F(AgvCli, ReadmesQuoteWhatTheProgramPrintsToday) {
+  auto first_line = [](const std::string& text) { return text.substr(0, text.find('\n')); };
+  auto file_text = [](const fs::path& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  const fs::path source(AGV_SOURCE_DIR);
+  const Result simulate = run("simulate --quiet --no-plots --out " + path("default"));
+  ASSERT_EQ(simulate.exit_code, 0) << simulate.output;
+  const std::string line = first_line(simulate.output);
+  EXPECT_NE(file_text(source / "README.md").find(line), std::string::npos)
+      << "README.md does not quote: " << line;
+  int datasets = 0;
+  for (const auto& entry : fs::directory_iterator(source / "datasets")) {
+    if (!fs::exists(entry.path() / "manifest.csv")) continue;
+    ++datasets;
+    const Result replay = run("replay --quiet --no-video " + entry.path().string() + " --out " +
+                              path(entry.path().filename().string()));
+    ASSERT_EQ(replay.exit_code, 0) << replay.output;
+    std::string printed = first_line(replay.output);
+    printed = printed.substr(0, printed.rfind(" | "));  // without the time per frame
+    EXPECT_NE(file_text(entry.path() / "README.md").find(printed), std::string::npos)
+        << entry.path().filename() << "/README.md does not quote: " << printed;
+  }
+  EXPECT_EQ(datasets, 3);
+}
+
 // Bad input: one message naming the file or option and the key, exit code 2, no output folder.
 TEST_F(AgvCli, BadInputExitsWithCode2AndLeavesNoResult) {
   std::ofstream(path("typo.yaml")) << "controller:\n  ts: 0.1\n";
