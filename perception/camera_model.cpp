@@ -22,16 +22,15 @@ CameraModel::CameraModel(const CameraIntrinsics& intrinsics, const MountPose& mo
 std::vector<cv::Point2d> CameraModel::undistort(const std::vector<cv::Point2d>& pixels) const {
   std::vector<cv::Point2d> normalised;
   if (pixels.empty()) return normalised;
+  // OpenCV's default is 5 fixed-point iterations: not enough for metric accuracy at the corners.
   const cv::TermCriteria exact(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12);
   if (intrinsics_.fisheye) {
     cv::fisheye::undistortPoints(pixels, normalised, camera_matrix_, distortion_, cv::noArray(),
                                  cv::noArray(), exact);
     return normalised;
   }
-  // OpenCV's default is 5 fixed-point iterations: not enough for metric accuracy at the corners.
-  cv::undistortPoints(
-      pixels, normalised, camera_matrix_, distortion_, cv::noArray(), cv::noArray(),
-      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+  cv::undistortPoints(pixels, normalised, camera_matrix_, distortion_, cv::noArray(), cv::noArray(),
+                      exact);
   return normalised;
 }
 
