@@ -16,6 +16,7 @@
 #include "pipeline/evaluation/trace_csv.h"
 #include "tools/build_info.h"
 #include "tools/gnuplot.h"
+#include "tools/tape_width_check.h"
 
 namespace agv::tools {
 
@@ -141,15 +142,8 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
        f.tape_width_m.empty() ? nlohmann::json(nullptr) : nlohmann::json(measured_m)},
       {"configured", configured_m ? nlohmann::json(*configured_m) : nlohmann::json(nullptr)}};
   j["warnings"] = nlohmann::json::array();
-  if (configured_m && f.tape_width_m.size() >= 5 &&
-      std::abs(measured_m - *configured_m) > 0.15 * *configured_m) {
-    char text[256];
-    std::snprintf(text, sizeof(text),
-                  "the tape measures %.1f mm wide (median of %zu frames), the camera file says "
-                  "%.1f mm (tape_width_m): correct it, or remove it to have the width measured",
-                  1e3 * measured_m, f.tape_width_m.size(), 1e3 * *configured_m);
-    j["warnings"].push_back(text);
-  }
+  if (const std::optional<std::string> warning = tape_width_warning(f.tape_width_m, configured_m))
+    j["warnings"].push_back(*warning);
   j["perception_rms_e_d_m"] = rms_or_null(f.error_e_d_m);
   j["perception_rms_e_theta_rad"] = rms_or_null(f.error_e_theta_rad);
   j["commands"] = result.rows.size();
@@ -216,7 +210,8 @@ std::string plot_title(const std::string& what, const std::string& kind,
 
 void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult& result,
                        const SourceSetup& setup, nlohmann::json summary, const std::string& what,
-                       const std::string& command, bool json) {
+                       const std::string& command, bool json,
+                       const std::vector<std::string>& already_said) {
   const bool has_truth = setup.opened.has_truth;
   summary["agv"] = build_json();
   {
@@ -232,8 +227,11 @@ void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult
   if (!failure.empty())
     std::cerr << "agv " << command << ": warning: plot skipped: " << failure << '\n';
   folder.commit();
-  for (const nlohmann::json& warning : summary["warnings"])
-    std::cerr << "agv " << command << ": warning: " << warning.get<std::string>() << '\n';
+  for (const nlohmann::json& warning : summary["warnings"]) {
+    const std::string text = warning.get<std::string>();
+    if (std::find(already_said.begin(), already_said.end(), text) != already_said.end()) continue;
+    std::cerr << "agv " << command << ": warning: " << text << '\n';
+  }
   if (!json) return;
   summary["output"] = folder.target().string();
   std::cout << summary.dump(2) << '\n';

@@ -59,10 +59,11 @@ void write_commands(const pipeline::OutputFolder& folder, const pipeline::RunRes
 // The end of replay and track: measurements.csv, summary.json and errors.png (measured against
 // true errors over time, titled "<what> <source>") into the folder, which is then committed;
 // with `json`, summary.json with the output folder on stdout. `command` names the program in
-// warnings.
+// warnings; those in `already_said` (given while the run went on) are not printed again.
 void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult& result,
                        const SourceSetup& setup, nlohmann::json summary, const std::string& what,
-                       const std::string& command, bool json);
+                       const std::string& command, bool json,
+                       const std::vector<std::string>& already_said = {});
 
 // "0.123" in the unit given, or "n/a" for an empty set.
 std::string rms_text(const std::vector<double>& values, double scale);

@@ -16,6 +16,7 @@
 #include "tools/progress_bar.h"
 #include "tools/source_report.h"
 #include "tools/source_setup.h"
+#include "tools/tape_width_check.h"
 
 namespace agv::tools {
 namespace {
@@ -108,7 +109,14 @@ int run_track_command(const TrackArgs& args) {
   options.duration_s = args.duration_s;
   options.stop = &stop_requested;
   options.perception = setup.perception;
-  options.sink = annotator.sink();
+  // The tape's width against the camera file's hint, said as soon as the frames show it.
+  TapeWidthWatch width_watch(setup.opened.camera.tape_width_m, "track");
+  options.sink = [&width_watch, annotate = annotator.sink()](
+                     const pipeline::FrameRecord& record, const pipeline::SourceFrame& frame,
+                     const perception::LineDetection* detection) {
+    width_watch.add(record);
+    annotate(record, frame, detection);
+  };
   options.on_period = [&](const pipeline::TraceRow& row) { commands.send(row); };
   pipeline::RunResult result;
   {
@@ -128,7 +136,16 @@ int run_track_command(const TrackArgs& args) {
   summary["udp"] = args.udp;
   summary["udp_failures"] = commands.udp_failures();
   summary["tracking"] = tracking_figures(result);
-  finish_source_run(folder, result, setup, summary, "tracking", "track", args.json);
+  // The width warning as it was said during the run (the end-of-run one counts every frame).
+  std::vector<std::string> already_said;
+  if (!width_watch.said().empty()) {
+    nlohmann::json warnings = nlohmann::json::array({width_watch.said()});
+    for (const nlohmann::json& w : summary["warnings"])
+      if (w.get<std::string>().rfind("the tape measures", 0) != 0) warnings.push_back(w);
+    summary["warnings"] = warnings;
+    already_said.push_back(width_watch.said());
+  }
+  finish_source_run(folder, result, setup, summary, "tracking", "track", args.json, already_said);
   if (args.json) return 0;
   const nlohmann::json& t = summary["tracking"];
   std::printf(

@@ -101,7 +101,13 @@ TEST_F(AgvTrack, TracksAVideoInRealTimeAndStopsAtItsEnd) {
   EXPECT_EQ(s["stop_reason"], "end of source");
   EXPECT_EQ(s["frames"].get<int>() + s["frames_dropped"].get<int>(), 21);
   EXPECT_GE(s["frames"].get<int>(), 15);
-  EXPECT_LT(s["tracking"]["measurement_age_s_median"].get<double>(), 0.2);
+  // Fresh measurements: the age is at most a control period (0.1 s) plus the time perception
+  // takes on this machine (measured in the same run: an ASan build on a loaded 2-core machine
+  // takes several times the Release time), plus 50 ms of scheduling; a controller acting on
+  // frames queued several periods late exceeds it.
+  const double perceive_s = 1e-3 * s["timing"]["perceive_ms_p99"].get<double>();
+  EXPECT_LT(s["tracking"]["measurement_age_s_median"].get<double>(), 0.1 + perceive_s + 0.05)
+      << "perception p99 " << perceive_s << " s";
   EXPECT_NEAR(s["tracking"]["commands_per_s"].get<double>(), 10.0, 0.5);
   const std::vector<nlohmann::json> commands = read_jsonl(dir_ / "track" / "commands.jsonl");
   ASSERT_GE(commands.size(), 20u);
@@ -287,6 +293,33 @@ TEST_F(AgvTrack, AStallingSourceIsReportedAndTheVehicleStops) {
 
 // A bare folder of real images (no manifest: name order, times from --fps) replayed with a
 // camera file: one measurement per image, the columns of DESIGN.md, a command per period.
+// A camera file whose tape width is wrong (30 mm; the tape of yellow_junction_worn is 40 mm):
+// perception still finds the tape, and track says so once, as soon as 15 frames show it, not
+// only when the run ends; summary.json keeps the warning.
+TEST_F(AgvTrack, SaysOnceAndEarlyThatTheTapeIsWiderThanTheCameraFileSays) {
+  fs::copy(fs::path(AGV_SOURCE_DIR) / "datasets" / "yellow_junction_worn", path("yellow"),
+           fs::copy_options::recursive);
+  std::ifstream in(fs::path(path("yellow")) / "camera.yaml");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  const size_t at = text.find("tape_width_m:");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, text.find('\n', at) - at, "tape_width_m: 0.03");
+  std::ofstream(fs::path(path("yellow")) / "camera.yaml") << text;
+  const auto r =
+      run_agv("track --quiet --as-fast-as-possible " + path("yellow") + " --out " + path("track"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string said = "the tape measures";
+  const size_t first = r.output.find(said);
+  ASSERT_NE(first, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(said, first + 1), std::string::npos) << "said twice:\n" << r.output;
+  EXPECT_NE(r.output.find("median of 15 frames"), std::string::npos) << r.output;
+  const nlohmann::json s = read_json(dir_ / "track" / "summary.json");
+  ASSERT_EQ(s["warnings"].size(), 1u);
+  EXPECT_NE(s["warnings"][0].get<std::string>().find(said), std::string::npos);
+  EXPECT_EQ(s["frames_lost"].get<int>(), 0);
+}
+
 TEST_F(AgvTrack, ReplaysABareFolderOfRealImages) {
   const std::string images = std::string(AGV_SHARED_DIR) + "/data/real/rcj_black_tape_topdown";
   const auto r = run_agv("replay --quiet --no-video " + images + " --camera " + AGV_SOURCE_DIR +
