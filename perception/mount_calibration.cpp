@@ -215,8 +215,7 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
     }
     object = kept_object;
     image = kept_image;
-    point_tag = kept_tag;
-    pose = fit_pose(object, image, k, dist);
+    point_tag = kept_tag;  // `pose` is already the fit without it
   }
   for (const auto& [id, count] : seen) {
     TagResidual residual;

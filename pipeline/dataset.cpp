@@ -154,11 +154,7 @@ void list_bare_folder(Dataset* d, double fps) {
   std::error_code error;
   fs::path folder = d->root;
   if (fs::is_directory(folder / "frames", error)) folder /= "frames";
-  std::vector<fs::path> images;
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
-    if (entry.is_regular_file(error) && looks_like_image(entry.path()))
-      images.push_back(entry.path());
-  }
+  const std::vector<fs::path> images = image_files_in(folder);
   if (images.empty()) {
     throw InputError(d->root.string() +
                      ": no manifest.csv and no images (PNG, JPEG, BMP, TIFF); expected a dataset "
@@ -169,7 +165,6 @@ void list_bare_folder(Dataset* d, double fps) {
                      std::to_string(images.size()) +
                      " images have no times: give their frame rate with --fps");
   }
-  std::sort(images.begin(), images.end());
   for (size_t i = 0; i < images.size(); ++i) {
     DatasetRow row;
     row.index = static_cast<int>(i);
@@ -180,6 +175,17 @@ void list_bare_folder(Dataset* d, double fps) {
 }
 
 }  // namespace
+
+std::vector<fs::path> image_files_in(const fs::path& folder) {
+  std::error_code error;
+  std::vector<fs::path> images;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, error)) {
+    if (entry.is_regular_file(error) && looks_like_image(entry.path()))
+      images.push_back(entry.path());
+  }
+  std::sort(images.begin(), images.end());
+  return images;
+}
 
 Dataset open_dataset(const std::string& path, const std::string& camera_path, double fps,
                      bool allow_missing_frames) {

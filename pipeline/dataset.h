@@ -52,6 +52,10 @@ Dataset open_dataset(const std::string& path, const std::string& camera_path, do
 // True for names ending in a video extension (.avi, .mp4, .mkv, .mov, .webm).
 bool looks_like_video(const std::string& path);
 
+// The image files (PNG, JPEG, BMP, TIFF) directly in a folder, in name order; empty when none
+// (or the folder cannot be read).
+std::vector<std::filesystem::path> image_files_in(const std::filesystem::path& folder);
+
 // Writes a dataset: frames/NNNNNN.png or .jpg, manifest.csv with the ground-truth and wheel
 // odometry columns, and camera.yaml. Everything goes into `folder` (a temporary folder renamed at
 // the end by its owner).

@@ -16,6 +16,7 @@
 #include "perception/intrinsics_calibration.h"
 #include "perception/mount_calibration.h"
 #include "pipeline/config/floor_tags_file.h"
+#include "pipeline/dataset.h"
 
 namespace agv::tools {
 namespace fs = std::filesystem;
@@ -37,7 +38,8 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
       "prints each view's detector and RMS, the RMS over all, and warnings a user can act on "
       "(views, coverage, tilt, fx/fy, a view the result leans on). When no model fits it prints "
       "the table and what to do, writes nothing and exits 2.");
-  sub->add_option("--images", args.images_dir, "Folder of PNG/JPEG images")->required();
+  sub->add_option("--images", args.images_dir, "Folder of images (PNG, JPEG, BMP, TIFF)")
+      ->required();
   sub->add_option("--board", args.board,
                   "chessboard:COLSxROWS:SQUARE_M (inner corners; default chessboard:9x6:0.025) or "
                   "charuco:COLSxROWS:SQUARE_M:MARKER_M[:DICTIONARY] (squares; dictionary default "
@@ -81,18 +83,12 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
 
 namespace {
 
-// The PNG/JPEG images of a folder in name order, grey; throws InputError naming the file.
+// The images of a folder in name order, grey; throws InputError naming the file.
 void read_images(const std::string& folder, std::vector<std::string>* names,
                  std::vector<cv::Mat>* images) {
   if (!fs::is_directory(folder)) throw InputError(folder + ": not a folder of images");
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(folder + ": no .png or .jpg images in it");
+  const std::vector<fs::path> files = pipeline::image_files_in(folder);
+  if (files.empty()) throw InputError(folder + ": no images (PNG, JPEG, BMP, TIFF) in it");
   for (const fs::path& file : files) {
     cv::Mat image = cv::imread(file.string(), cv::IMREAD_GRAYSCALE);
     if (image.empty()) throw InputError(file.string() + ": cannot be read or decoded");

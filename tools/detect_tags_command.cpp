@@ -16,6 +16,7 @@
 
 #include "common/input_error.h"
 #include "perception/apriltag_detector.h"
+#include "pipeline/dataset.h"
 #include "pipeline/evaluation/output_folder.h"
 
 namespace agv::tools {
@@ -46,21 +47,6 @@ void add_detect_tags_command(CLI::App& app, DetectTagsArgs& args) {
 }
 
 namespace {
-
-// The image files of a folder in name order.
-std::vector<fs::path> image_files(const std::string& folder) {
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string ext = entry.path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" ||
-        ext == ".tiff")
-      files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(folder + ": no images (PNG, JPEG, BMP, TIFF) in it");
-  return files;
-}
 
 cv::Mat annotated(const cv::Mat& image, const std::vector<perception::TagDetection>& tags) {
   cv::Mat out;
@@ -129,7 +115,9 @@ int run_detect_tags(const DetectTagsArgs& args) {
       std::fprintf(stderr, "\r%s: %zu tags   ", name.c_str(), found.size());
   };
   if (fs::is_directory(args.input)) {
-    for (const fs::path& file : image_files(args.input)) {
+    const std::vector<fs::path> files = pipeline::image_files_in(args.input);
+    if (files.empty()) throw InputError(args.input + ": no images (PNG, JPEG, BMP, TIFF) in it");
+    for (const fs::path& file : files) {
       const cv::Mat image = cv::imread(file.string(), cv::IMREAD_UNCHANGED);
       if (image.empty() || image.depth() != CV_8U)
         throw InputError(file.string() + ": cannot be read as an 8-bit image");
