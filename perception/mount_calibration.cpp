@@ -32,12 +32,24 @@ Eigen::Matrix<double, 6, 1> mount_vector(const MountPose& m) {
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
-// The camera pose (X_c = R X_v + t) that best reprojects the points: IPPE on the first tag's
-// corners (a square), of its two solutions the one whose camera is above the floor and which
-// reprojects all points best; then all points, LM.
+// A camera pose: X_c = R(r) X_v + t.
 struct PoseFit {
   cv::Vec3d r, t;
 };
+
+// Reprojection RMS (px) of the points under a pose.
+double rms_of(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
+              const PoseFit& pose, const cv::Mat& k, const cv::Mat& dist) {
+  std::vector<cv::Point2d> projected;
+  cv::projectPoints(object, pose.r, pose.t, k, dist, projected);
+  double sum = 0.0;
+  for (size_t j = 0; j < image.size(); ++j) sum += std::pow(cv::norm(projected[j] - image[j]), 2);
+  return std::sqrt(sum / std::max<size_t>(1, image.size()));
+}
+
+// The camera pose (X_c = R X_v + t) that best reprojects the points: IPPE on the first tag's
+// corners (a square), of its two solutions the one whose camera is above the floor and which
+// reprojects all points best; then all points, LM.
 PoseFit fit_pose(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
                  const cv::Mat& k, const cv::Mat& dist) {
   std::vector<cv::Point3d> first(object.begin(), object.begin() + 4);
@@ -47,15 +59,12 @@ PoseFit fit_pose(const std::vector<cv::Point3d>& object, const std::vector<cv::P
   PoseFit best;
   double best_error = 1e300;
   for (size_t i = 0; i < rvecs.size(); ++i) {
-    const cv::Vec3d r(rvecs[i]), t(tvecs[i]);
-    if (mount_of(r, t).xyz_m.z() <= 0.0) continue;
-    std::vector<cv::Point2d> projected;
-    cv::projectPoints(object, r, t, k, dist, projected);
-    double e = 0.0;
-    for (size_t j = 0; j < image.size(); ++j) e += std::pow(cv::norm(projected[j] - image[j]), 2);
+    const PoseFit candidate{cv::Vec3d(rvecs[i]), cv::Vec3d(tvecs[i])};
+    if (mount_of(candidate.r, candidate.t).xyz_m.z() <= 0.0) continue;
+    const double e = rms_of(object, image, candidate, k, dist);
     if (e < best_error) {
       best_error = e;
-      best = {r, t};
+      best = candidate;
     }
   }
   if (best_error == 1e300) throw InputError("the tags give no camera pose above the floor");
@@ -63,15 +72,6 @@ PoseFit fit_pose(const std::vector<cv::Point3d>& object, const std::vector<cv::P
       object, image, k, dist, best.r, best.t,
       cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 100, 1e-12));
   return best;
-}
-
-double rms_of(const std::vector<cv::Point3d>& object, const std::vector<cv::Point2d>& image,
-              const PoseFit& pose, const cv::Mat& k, const cv::Mat& dist) {
-  std::vector<cv::Point2d> projected;
-  cv::projectPoints(object, pose.r, pose.t, k, dist, projected);
-  double sum = 0.0;
-  for (size_t j = 0; j < image.size(); ++j) sum += std::pow(cv::norm(projected[j] - image[j]), 2);
-  return std::sqrt(sum / std::max<size_t>(1, image.size()));
 }
 
 }  // namespace
@@ -181,7 +181,6 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
     }
     if (worst < 0) break;
     pose = worst_pose;
-    std::map<int, double> tag_rms{{worst, worst_px}};
     excluded[worst] = true;
     auto [o, i] = points_of(worst, true);
     // How far off on the floor: the residual in pixels at the tag's distance from the camera.
@@ -191,13 +190,13 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
     std::snprintf(text, sizeof(text),
                   "tag %d disagrees with the others: its corners are %.1f px off (about %.0f mm on "
                   "the floor); its pose in TAGS.yaml is likely wrong",
-                  worst, tag_rms[worst], 1e3 * tag_rms[worst] * depth_m / k.at<double>(0, 0));
+                  worst, worst_px, 1e3 * worst_px * depth_m / k.at<double>(0, 0));
     std::string warning = text;
     // A tag lying turned: its corners fit when the order is turned by a quarter turn or more.
     for (int quarter = 1; quarter < 4; ++quarter) {
       std::vector<cv::Point3d> turned(o.size());
       for (size_t j = 0; j < o.size(); ++j) turned[j] = o[(j / 4) * 4 + (j % 4 + quarter) % 4];
-      if (rms_of(turned, i, pose, k, dist) < 0.25 * tag_rms[worst]) {
+      if (rms_of(turned, i, pose, k, dist) < 0.25 * worst_px) {
         warning += " (it lies turned by " + std::to_string(90 * quarter) +
                    " deg from its yaw_rad in TAGS.yaml)";
         break;
@@ -228,15 +227,14 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
     result.tags.push_back(residual);
   }
   result.points = static_cast<int>(object.size());
-  const cv::Vec3d best_r = pose.r, best_t = pose.t;
 
   std::vector<cv::Point2d> projected;
   cv::Mat jacobian;
-  cv::projectPoints(object, best_r, best_t, k, dist, projected, jacobian);
+  cv::projectPoints(object, pose.r, pose.t, k, dist, projected, jacobian);
   double sum = 0.0;
   for (size_t j = 0; j < image.size(); ++j) sum += std::pow(cv::norm(projected[j] - image[j]), 2);
   result.rms_px = std::sqrt(sum / image.size());
-  result.mount = mount_of(best_r, best_t);
+  result.mount = mount_of(pose.r, pose.t);
 
   // Covariance of (rvec, tvec): sigma^2 (J^T J)^-1, sigma^2 from the residuals (2n - 6 degrees
   // of freedom); carried to (xyz, rpy) through the numerical Jacobian of the conversion.
@@ -248,7 +246,7 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
   Eigen::Matrix<double, 6, 6> j_mount;
   const Eigen::Matrix<double, 6, 1> at = mount_vector(result.mount);
   for (int c = 0; c < 6; ++c) {
-    cv::Vec3d r = best_r, t = best_t;
+    cv::Vec3d r = pose.r, t = pose.t;
     const double step = 1e-7;
     (c < 3 ? r[c] : t[c - 3]) += step;
     Eigen::Matrix<double, 6, 1> d = (mount_vector(mount_of(r, t)) - at) / step;
