@@ -6,10 +6,13 @@
 // crash or sanitizer report fails the run). The input that broke it is written next to the
 // test's working directory as fuzz_failure_<target>.bin to reproduce.
 //
-// Budget: AGV_FUZZ_ITERATIONS mutations per corpus file (default 150), fixed seeds: the same
-// inputs on every run.
+// Budget: AGV_FUZZ_ITERATIONS mutations per corpus file (default 150). Seeds: AGV_FUZZ_SEED
+// (default 0) mixed with each corpus file's name, printed for every file; the same seed gives the
+// same inputs on every run, and a failure names the seed and mutation to replay it with.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -38,6 +41,22 @@ const fs::path kCorpus = fs::path(AGV_SOURCE_DIR) / "tests" / "fuzz" / "corpus";
 int iterations() {
   const char* text = std::getenv("AGV_FUZZ_ITERATIONS");
   return text ? std::max(1, std::atoi(text)) : 150;
+}
+
+// The run's base seed (AGV_FUZZ_SEED, default 0).
+std::uint64_t base_seed() {
+  const char* text = std::getenv("AGV_FUZZ_SEED");
+  return text ? std::strtoull(text, nullptr, 10) : 0;
+}
+
+// The generator's seed for one corpus file: the base seed mixed with the file's name.
+std::uint64_t seed_for(const std::string& name) {
+  return base_seed() ^ std::hash<std::string>{}(name);
+}
+
+std::string replay_hint(const std::string& name, int mutation) {
+  return " [" + name + " seed " + std::to_string(seed_for(name)) + ", mutation " +
+         std::to_string(mutation) + "; replay: AGV_FUZZ_SEED=" + std::to_string(base_seed()) + "]";
 }
 
 std::string read_file(const fs::path& path) {
@@ -116,7 +135,10 @@ void fuzz(const std::string& target, Load load) {
     const std::string original = read_file(seed);
     // The unmutated seed must load: otherwise the fuzzing only ever tests the rejection path.
     ASSERT_NO_THROW(load(original, seed)) << seed;
-    std::mt19937_64 rng(std::hash<std::string>{}(seed.filename().string()));
+    const std::string name = seed.filename().string();
+    std::printf("%s/%s: seed %llu\n", target.c_str(), name.c_str(),
+                static_cast<unsigned long long>(seed_for(name)));
+    std::mt19937_64 rng(seed_for(name));
     for (int i = 0; i < iterations(); ++i) {
       std::string input = original;
       const int edits = 1 + static_cast<int>(rng() % 3);
@@ -128,8 +150,7 @@ void fuzz(const std::string& target, Load load) {
         ++rejected;
       } catch (const std::exception& e) {
         write_file("fuzz_failure_" + target + ".bin", input);
-        FAIL() << target << " (" << seed.filename() << ", mutation " << i
-               << "): not an InputError: " << e.what();
+        FAIL() << target << ": not an InputError: " << e.what() << replay_hint(name, i);
       }
     }
   }
@@ -183,8 +204,11 @@ TEST_F(MutationFuzz, ManifestCsv) {
 }
 
 // The frame path of replay: a dataset of one frame whose file is mutated (JPEG, and PNG made
-// from it), read, checked and measured. A corrupt JPEG often still decodes (into garbage
-// blocks): then perception must measure it without failing.
+// from it), read, checked and measured. Checked: the unmutated frame loads and gives the line
+// (the blue tape it shows); a mutated file is either rejected with InputError or measured
+// (a corrupt JPEG often still decodes, into garbage blocks) into a well-formed measurement:
+// finite errors, confidence in [0, 1], a reason when no line; and some mutations are rejected
+// (the checks are reached).
 TEST_F(MutationFuzz, FrameFiles) {
   const fs::path dataset = dir_ / "frames_dataset";
   fs::create_directories(dataset / "frames");
@@ -195,14 +219,18 @@ TEST_F(MutationFuzz, FrameFiles) {
   fs::create_directories(png_seed);
   cv::imwrite((png_seed / "tape.png").string(),
               cv::imread((kCorpus / "frame" / "tape.jpg").string()));
+  int all_rejected = 0, all_measured_mutated = 0;
   for (const fs::path& seed : {kCorpus / "frame" / "tape.jpg", png_seed / "tape.png"}) {
     const std::string extension = seed.extension().string();
+    const std::string name = seed.filename().string();
     write_file(dataset / "manifest.csv", "index,t_s,file\n0,0.0,frames/000000" + extension + "\n");
     const std::string original = read_file(seed);
-    std::mt19937_64 rng(extension.size() + original.size());
+    std::printf("frame/%s: seed %llu\n", name.c_str(),
+                static_cast<unsigned long long>(seed_for(name)));
+    std::mt19937_64 rng(seed_for(name));
     // Each run builds replay's floor map (~0.3 s): a fifth of the budget.
     const int runs = std::max(2, iterations() / 5);
-    int rejected = 0;
+    int rejected = 0, measured = 0;
     for (int i = 0; i < runs; ++i) {
       write_file(dataset / "frames" / ("000000" + extension),
                  i == 0 ? original : mutate(original, rng));
@@ -213,18 +241,39 @@ TEST_F(MutationFuzz, FrameFiles) {
         perception::LineEstimator::Options options;
         options.tape.width_m = 0.025;
         pipeline::ImagePerceiver perceiver(camera, options, /*path_memory=*/false);
-        (void)perceiver.measure(*source.next(), nullptr);
-      } catch (const InputError&) {
+        perception::LineDetection seen;
+        const LineMeasurement m = perceiver.measure(*source.next(), &seen);
+        ++measured;
+        if (i == 0) {
+          EXPECT_TRUE(m.line_found) << "the unmutated frame " << name;
+        }
+        if (m.line_found) {
+          EXPECT_TRUE(std::isfinite(m.e_d_m) && std::isfinite(m.e_theta_rad) &&
+                      std::isfinite(m.curvature_1_m))
+              << replay_hint(name, i);
+          EXPECT_TRUE(m.confidence >= 0.0 && m.confidence <= 1.0) << replay_hint(name, i);
+        } else {
+          EXPECT_FALSE(seen.rejected_because.empty()) << replay_hint(name, i);
+        }
+      } catch (const InputError& e) {
+        if (i == 0)
+          ADD_FAILURE() << "the unmutated frame " << name << " was rejected: " << e.what();
         ++rejected;
       } catch (const std::exception& e) {
         write_file("fuzz_failure_frame" + extension,
                    read_file(dataset / "frames" / ("000000" + extension)));
-        FAIL() << "frame" << extension << " mutation " << i << ": not an InputError: " << e.what();
+        FAIL() << "frame" << extension << ": not an InputError: " << e.what()
+               << replay_hint(name, i);
       }
     }
-    std::printf("frame%s: %d of %d mutated files rejected with InputError\n", extension.c_str(),
-                rejected, runs);
+    std::printf("frame%s: %d of %d mutated files rejected with InputError, %d measured\n",
+                extension.c_str(), rejected, runs, measured);
+    all_rejected += rejected;
+    all_measured_mutated += measured - 1;
   }
+  // A corrupt JPEG nearly always decodes; a corrupt PNG nearly never (its CRCs).
+  EXPECT_GT(all_rejected, 0) << "the mutations never reached the frame checks";
+  EXPECT_GT(all_measured_mutated, 0) << "no mutated frame was measured";
 }
 
 }  // namespace
