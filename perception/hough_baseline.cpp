@@ -48,26 +48,20 @@ LineMeasurement HoughBaseline::estimate(const cv::Mat& frame_bgr, double stamp_s
       [](const FloorSegment& x, const FloorSegment& y) { return x.length_m() < y.length_m(); });
   const Eigen::Vector2d direction = longest.b - longest.a;
 
-  // Direction: length-weighted total least squares through the end points of the segments that
-  // agree with the longest (each edge of the tape gives parallel segments).
+  // Direction: the sum of the segments that agree with the longest, each turned to point the
+  // same way (a length-weighted mean direction). Not a fit through their end points: the tape's
+  // two edges are parallel but seen over different stretches, and one line through both would
+  // lean by their offset (1.2 deg for a 25 mm tape whose edges are seen 30 mm apart along it).
   std::vector<const FloorSegment*> agreeing;
-  double weight = 0.0;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (const FloorSegment& s : segments) {
     if (undirected_angle_rad(s.b - s.a, direction) > 10.0 * CV_PI / 180.0) continue;
     agreeing.push_back(&s);
-    mean += s.length_m() * (s.a + s.b);
-    weight += 2.0 * s.length_m();
+    sum +=
+        (s.b - s.a).dot(direction) >= 0.0 ? Eigen::Vector2d(s.b - s.a) : Eigen::Vector2d(s.a - s.b);
   }
-  mean /= weight;
-  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-  for (const FloorSegment* s : agreeing) {
-    for (const Eigen::Vector2d& p : {s->a, s->b})
-      scatter += s->length_m() * (p - mean) * (p - mean).transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(scatter);
-  Eigen::Vector2d tangent = solver.eigenvectors().col(1);  // largest eigenvalue
-  if (tangent.x() < 0.0) tangent = -tangent;               // the line runs forward (+x of V)
+  Eigen::Vector2d tangent = sum.normalized();
+  if (tangent.x() < 0.0) tangent = -tangent;  // the line runs forward (+x of V)
   const Eigen::Vector2d normal(-tangent.y(), tangent.x());
 
   // Centre: midway between the outermost segments within 1.5 tape widths of the longest one;

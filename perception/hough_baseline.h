@@ -11,7 +11,7 @@ namespace agv::perception {
 // GaussianBlur 5x5 (sigma 1.5), Canny (50, 150), HoughLinesP (1 px, 1 deg, 50 votes, segments of
 // at least 50 px, gaps up to 10 px). Its segments are taken to the floor through the same camera
 // calibration as our perception; those within 10 deg of the longest one (the tape's two edges)
-// give the direction (length-weighted total least squares of their end points) and the centre
+// give the direction (their length-weighted mean direction) and the centre
 // (midway between the outermost of them within 1.5 tape widths: the tape's two edges), hence
 // e_theta and e_d. No line when only one edge is seen. No curvature, no junctions.
 class HoughBaseline {

@@ -1,0 +1,80 @@
+#include "perception/contrast_axis.h"
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace agv::perception {
+namespace {
+
+// A 160 x 120 floor with a vertical band of tape 8 px wide (7 % of the pixels).
+cv::Mat band_frame(const cv::Scalar& floor_bgr, const cv::Scalar& tape_bgr) {
+  cv::Mat frame(120, 160, CV_8UC3, floor_bgr);
+  cv::rectangle(frame, cv::Rect(76, 0, 8, 120), tape_bgr, cv::FILLED);
+  return frame;
+}
+
+cv::Vec3b bgr(const cv::Scalar& s) {
+  return cv::Vec3b(static_cast<uchar>(s[0]), static_cast<uchar>(s[1]), static_cast<uchar>(s[2]));
+}
+
+// The axis's contract: about 0 on the floor, about 1 on the tape (0.1: the tape's estimated
+// colour is the mean of the pixels that differ most, which on a clean two-colour frame are the
+// tape's), for dark tape on a light floor, light on dark, and colour on colour.
+TEST(ContrastAxis, FloorReadsZeroAndTapeOne) {
+  const std::vector<std::pair<cv::Scalar, cv::Scalar>> cases = {
+      {cv::Scalar(150, 160, 170), cv::Scalar(30, 30, 30)},   // black tape, light floor
+      {cv::Scalar(60, 60, 60), cv::Scalar(230, 230, 230)},   // white tape, dark floor
+      {cv::Scalar(120, 125, 130), cv::Scalar(200, 90, 40)},  // blue tape, grey floor
+      {cv::Scalar(90, 110, 140), cv::Scalar(20, 200, 230)},  // yellow tape, brown floor
+  };
+  for (const auto& [floor, tape] : cases) {
+    const auto axis = estimate_contrast_axis(band_frame(floor, tape), std::nullopt);
+    ASSERT_TRUE(axis) << tape;
+    EXPECT_NEAR(axis->apply(bgr(floor)), 0.0, 0.1) << tape;
+    EXPECT_NEAR(axis->apply(bgr(tape)), 1.0, 0.1) << tape;
+    EXPECT_FALSE(axis->from_hint);
+  }
+}
+
+TEST(ContrastAxis, GreyFramesUseTheFirstWeight) {
+  cv::Mat grey(120, 160, CV_8UC1, cv::Scalar(180));
+  cv::rectangle(grey, cv::Rect(76, 0, 8, 120), cv::Scalar(40), cv::FILLED);
+  const auto axis = estimate_contrast_axis(grey, std::nullopt);
+  ASSERT_TRUE(axis);
+  EXPECT_NEAR(axis->apply(static_cast<unsigned char>(180)), 0.0, 0.1);
+  EXPECT_NEAR(axis->apply(static_cast<unsigned char>(40)), 1.0, 0.1);
+}
+
+// A hint distinct from the floor is taken as the tape colour.
+TEST(ContrastAxis, AHintGivesTheTapeColour) {
+  const cv::Scalar floor(150, 160, 170), tape(30, 30, 30);
+  const auto axis = estimate_contrast_axis(band_frame(floor, tape), cv::Vec3d(30, 30, 30));
+  ASSERT_TRUE(axis);
+  EXPECT_TRUE(axis->from_hint);
+  EXPECT_NEAR(axis->apply(bgr(floor)), 0.0, 0.05);
+  EXPECT_NEAR(axis->apply(bgr(tape)), 1.0, 0.05);
+}
+
+TEST(ContrastAxis, AFlatFrameHasNoAxis) {
+  const cv::Mat flat(120, 160, CV_8UC3, cv::Scalar(100, 110, 120));
+  EXPECT_FALSE(estimate_contrast_axis(flat, std::nullopt));
+  EXPECT_FALSE(choose_contrast_axis(flat, std::nullopt, {8.0}));
+}
+
+// A broad dark shadow differs from the floor more than blue tape does (in grey level), but it is
+// no bar 8 px wide: the axis chosen is the tape's, on which the shadow reads well under the
+// half-way threshold (0.5) and the tape about 1.
+TEST(ContrastAxis, TheBarNotTheShadowChoosesTheAxis) {
+  const cv::Scalar floor(150, 155, 160), tape(200, 90, 40), shadow(60, 62, 64);
+  cv::Mat frame = band_frame(floor, tape);
+  cv::rectangle(frame, cv::Rect(0, 0, 50, 120), shadow, cv::FILLED);
+  const auto axis = choose_contrast_axis(frame, std::nullopt, {8.0});
+  ASSERT_TRUE(axis);
+  EXPECT_NEAR(axis->apply(bgr(tape)), 1.0, 0.15);
+  EXPECT_NEAR(axis->apply(bgr(floor)), 0.0, 0.15);
+  EXPECT_LT(axis->apply(bgr(shadow)), 0.5);
+}
+
+}  // namespace
+}  // namespace agv::perception
