@@ -350,7 +350,8 @@ LensModel parse_lens_model(const std::string& text) {
 
 IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names,
                                            const std::vector<cv::Mat>& images,
-                                           const BoardSpec& board, LensModel model) {
+                                           const BoardSpec& board, LensModel model,
+                                           const std::function<void(double)>& progress) {
   IntrinsicsCalibration result;
   std::unique_ptr<AprilTagDetector> tag_detector;
   cv::Ptr<cv::aruco::CharucoBoard> charuco;
@@ -392,6 +393,7 @@ IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names
     }
     result.views.push_back(view);
     greys.push_back(grey);
+    if (progress) progress(static_cast<double>(i + 1) / images.size());
   }
 
   // A board of another size than --board: larger boards are seen by the detector itself; a

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -77,11 +78,13 @@ struct IntrinsicsCalibration {
 // when leaving one view out moves the focal length by more than 1 %. Throws InputError when
 // images differ in size, when fewer than 3 views show the board (naming what was searched and,
 // for a chessboard, the size of the board the images do show), or when the images show a
-// chessboard larger than the one given.
+// chessboard larger than the one given. `progress` (optional) is told the fraction of the images
+// searched after each one (the search is most of the time).
 IntrinsicsCalibration calibrate_intrinsics(const std::vector<std::string>& names,
                                            const std::vector<cv::Mat>& images,
                                            const BoardSpec& board,
-                                           LensModel model = LensModel::kPinhole);
+                                           LensModel model = LensModel::kPinhole,
+                                           const std::function<void(double)>& progress = nullptr);
 
 // Where the used views' corners fell: the image area with each view's corners in its own
 // colour and the 5x5 coverage grid (cells without corners shaded).

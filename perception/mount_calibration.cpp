@@ -92,7 +92,8 @@ std::array<Eigen::Vector3d, 4> tag_corners_in_vehicle(const FloorTagPose& tag) {
 MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
                                  const std::vector<cv::Mat>& frames,
                                  const std::vector<std::string>& frame_names,
-                                 const FloorTagsFile& tags) {
+                                 const FloorTagsFile& tags,
+                                 const std::function<void(double)>& progress) {
   AprilTagDetector::Options options;
   options.family = tags.family;
   const AprilTagDetector detector(options);
@@ -120,6 +121,7 @@ MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
       used = true;
     }
     result.frames_used += used ? 1 : 0;
+    if (progress) progress(static_cast<double>(f + 1) / frames.size());
   }
   if (object.size() < 4) {
     std::string ids;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,10 +58,12 @@ struct MountCalibration {
 // turning it by 90, 180 or 270 deg fits, by how much it is turned, and the mount is refitted
 // without it (while two tags remain). A fisheye camera's corners are undistorted first. Throws
 // InputError when fewer than 4 corners (one tag) are seen in all frames, naming what was
-// searched.
+// searched. `progress` (optional) is told the fraction of the frames searched for tags after
+// each one.
 MountCalibration calibrate_mount(const CameraIntrinsics& intrinsics,
                                  const std::vector<cv::Mat>& frames,
                                  const std::vector<std::string>& frame_names,
-                                 const FloorTagsFile& tags);
+                                 const FloorTagsFile& tags,
+                                 const std::function<void(double)>& progress = nullptr);
 
 }  // namespace agv::perception

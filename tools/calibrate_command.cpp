@@ -17,6 +17,7 @@
 #include "perception/mount_calibration.h"
 #include "pipeline/config/floor_tags_file.h"
 #include "pipeline/dataset.h"
+#include "tools/progress_bar.h"
 
 namespace agv::tools {
 namespace fs = std::filesystem;
@@ -57,6 +58,7 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
                   "replaced only with --force");
   sub->add_flag("--force", args.force, "Replace an existing output file");
   sub->add_flag("--json", args.json, "Print the result as JSON");
+  sub->add_flag("--quiet", args.quiet, "No progress bar");
   sub->callback([&args] { args.command = "intrinsics"; });
 
   CLI::App* mount = calibrate->add_subcommand(
@@ -78,6 +80,7 @@ void add_calibrate_command(CLI::App& app, CalibrateArgs& args) {
                     "is replaced only with --force");
   mount->add_flag("--force", args.force, "Replace an existing output file");
   mount->add_flag("--json", args.json, "Print the result as JSON");
+  mount->add_flag("--quiet", args.quiet, "No progress bar");
   mount->callback([&args] { args.command = "mount"; });
 }
 
@@ -132,8 +135,11 @@ int run_mount(const CalibrateArgs& args) {
         images[i].rows != camera.intrinsics.height_px)
       throw InputError(names[i] + ": image size differs from " + args.camera_file);
   }
-  const perception::MountCalibration m =
-      perception::calibrate_mount(camera.intrinsics, images, names, tags);
+  ProgressBar bar("finding tags in " + std::to_string(images.size()) + " frames",
+                  !args.quiet && !args.json);
+  const perception::MountCalibration m = perception::calibrate_mount(
+      camera.intrinsics, images, names, tags, [&bar](double f) { bar.update(f); });
+  bar.finish();
   const std::optional<perception::MountPose> before = camera.mount;
   camera.mount = m.mount;
   camera.mount_calibration.avg_reprojection_error_px = m.rms_px;
@@ -213,8 +219,11 @@ int run_calibrate(const CalibrateArgs& args) {
   std::vector<std::string> names;
   std::vector<cv::Mat> images;
   read_images(args.images_dir, &names, &images);
-  const perception::IntrinsicsCalibration result =
-      perception::calibrate_intrinsics(names, images, board, model);
+  ProgressBar bar("finding the board in " + std::to_string(images.size()) + " images",
+                  !args.quiet && !args.json);
+  const perception::IntrinsicsCalibration result = perception::calibrate_intrinsics(
+      names, images, board, model, [&bar](double f) { bar.update(f); });
+  bar.finish();
   if (!result.fitted) {
     if (!args.json) {
       print_views(result);

@@ -17,6 +17,7 @@ struct CalibrateArgs {
   std::string out;  // empty: camera_<date>-<time>.yaml in the working directory
   bool force = false;
   bool json = false;
+  bool quiet = false;
 };
 
 // `agv calibrate intrinsics` and `agv calibrate mount`.
