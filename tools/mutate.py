@@ -70,6 +70,16 @@ MUTATIONS = [
      "camera_options.latency_s = s.latency_frames * frame_period_s;",
      "camera_options.latency_s = (s.latency_frames - 1) * frame_period_s;",
      ["pipeline_tests", "pipeline_loop_tests"]),
+    ("tape regions: one edge counts as a bar", "perception/tape_regions.cpp",
+     "out[x] = c[x] - std::max(f[std::max(0, x - offset)]",
+     "out[x] = c[x] - std::min(f[std::max(0, x - offset)]", ["perception_tests"]),
+    ("hough baseline: centre from one edge", "perception/hough_baseline.cpp",
+     "const double centre_offset_m = 0.5 * (lo + hi);",
+     "const double centre_offset_m = lo;", ["perception_tests"]),
+    ("watchdog: finished threads still watched", "pipeline/stall_tracker.cpp",
+     "    if (w.finished) continue;\n", "", ["pipeline_tests"]),
+    ("output folder: a failed run's folder kept", "pipeline/evaluation/output_folder.cpp",
+     "  fs::remove_all(temporary_, error);\n}", "}", ["pipeline_tests"]),
 ]
 
 
