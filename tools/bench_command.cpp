@@ -62,9 +62,12 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
       "render and control times; closed-loop frames per second.");
   sub->add_option("--scenario", args.scenario, "Scenario YAML (default: the built-in one)");
   sub->add_option("--set", args.overrides, "Override one scenario key")->type_name("KEY=VALUE");
-  sub->add_option("--frames", args.frames, "Frames to time")->check(CLI::Range(10, 100000));
-  sub->add_option("--threads", args.threads, "OpenCV threads (default 1)")
-      ->check(CLI::Range(1, 256));
+  sub->add_option("--frames", args.frames, "Frames to time")
+      ->check(CLI::Range(10, 100000))
+      ->capture_default_str();
+  sub->add_option("--threads", args.threads, "OpenCV threads")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   sub->add_flag("--json", args.json, "Print one JSON object instead of the table");
 }
 

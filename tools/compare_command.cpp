@@ -210,7 +210,8 @@ void add_compare_command(CLI::App& app, CompareArgs& args) {
       ->check(CLI::Range(0LL, 2147483647LL));
   sub->add_option("--monte-carlo", args.monte_carlo_runs,
                   "K runs per controller of the suite's monte_carlo scenario with random initial "
-                  "errors and noise seeds; reports median, p95 and worst")
+                  "errors and noise seeds; reports median, p95 and worst (default: no Monte Carlo, "
+                  "the suite)")
       ->check(CLI::Range(1, 1000000));
   sub->add_option("--shard", args.shard,
                   "Run only slice K of N of the runs (every N-th run from the K-th) and write "

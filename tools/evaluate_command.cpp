@@ -27,12 +27,15 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       "tape; and the detection rate, errors at the origin and lines without tape of the usual "
       "blur + Canny + HoughLinesP detector on the same frames.");
   sub->add_option("--conditions", args.conditions, "Random draws of camera, floor, tape and light")
-      ->check(CLI::Range(1, 10000));
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
   sub->add_option("--frames-per-condition", args.frames_per_condition, "Poses per draw")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, 1000))
+      ->capture_default_str();
   sub->add_option("--empty-conditions", args.empty_conditions, "Draws without tape")
-      ->check(CLI::Range(0, 10000));
-  sub->add_option("--seed", args.seed, "Seed (same seed, same frames)");
+      ->check(CLI::Range(0, 10000))
+      ->capture_default_str();
+  sub->add_option("--seed", args.seed, "Seed (same seed, same frames)")->capture_default_str();
   sub->add_option("--out", args.out_dir, "Also write frames.csv and summary.json to this folder");
   sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
   sub->add_option(

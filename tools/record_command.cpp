@@ -31,9 +31,12 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
       ->type_name("KEY=VALUE");
   sub->add_option("--out", args.out_dir, "Dataset folder to write")->required();
   sub->add_flag("--force", args.force, "Replace an existing dataset folder (a previous recording)");
-  sub->add_option("--format", args.format, "Frame format")->check(CLI::IsMember({"png", "jpg"}));
+  sub->add_option("--format", args.format, "Frame format")
+      ->check(CLI::IsMember({"png", "jpg"}))
+      ->capture_default_str();
   sub->add_option("--jpeg-quality", args.jpeg_quality, "JPEG quality (with --format jpg)")
-      ->check(CLI::Range(10, 100));
+      ->check(CLI::Range(10, 100))
+      ->capture_default_str();
   sub->add_flag("--quiet", args.quiet, "No progress bar");
   sub->add_flag("--json", args.json, "Print the result (frames, bytes, output folder) as JSON");
 }

@@ -37,17 +37,20 @@ void add_source_options(CLI::App* sub, SourceArgs& args, const std::string& sour
                         bool video_by_default) {
   sub->add_option("--camera", args.camera,
                   "Camera YAML (default: the dataset's camera.yaml; needed for anything else)");
-  sub->add_option("--fps", args.fps, "Frame rate of a bare folder of images (its times)")
+  sub->add_option("--fps", args.fps,
+                  "Frame rate of a bare folder of images (its times; required for one, no default)")
       ->check(CLI::Range(0.01, 10000.0));
   sub->add_option("--scenario", args.scenario_file,
                   "Scenario YAML for the controller, its period, the vehicle limits and "
                   "perception settings (default: the built-in one)");
   sub->add_option("--set", args.overrides, "Override one scenario key")->type_name("KEY=VALUE");
   sub->add_option("--controller", args.controller,
-                  "Controller whose commands to compute (--set controller.kind=)")
+                  "Controller whose commands to compute (--set controller.kind=; default: the "
+                  "scenario's)")
       ->check(CLI::IsMember({"finite_step", "pid", "seed004_ff_p", "dwa", "improved_dwa"}));
   sub->add_option("--path-speed", args.path_speed_m_s,
-                  "Path speed the controller assumes, m/s (--set path_speed_m_s=)")
+                  "Path speed the controller assumes, m/s (--set path_speed_m_s=; default: the "
+                  "scenario's)")
       ->check(CLI::Range(0.0, 5.0));
   sub->add_option("--branch", args.branch, "Branch to follow where lines meet")
       ->check(CLI::IsMember({"left", "straight", "right"}))
