@@ -83,6 +83,7 @@ int run_evaluate(const EvaluateArgs& args) {
     folder->commit();
   }
   if (args.json) {
+    if (folder) j["output"] = folder->target().string();
     std::cout << j.dump(2) << '\n';
     return 0;
   }

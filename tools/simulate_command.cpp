@@ -50,7 +50,9 @@ void add_simulate_command(CLI::App& app, SimulateArgs& args) {
       ->type_name("KEY=VALUE");
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
   sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
-  sub->add_flag("--json", args.json, "Print summary.json on stdout instead of the summary line");
+  sub->add_flag("--json", args.json,
+                "Print summary.json on stdout instead of the summary line, with the output "
+                "folder (\"output\")");
   sub->add_flag("--no-plots", args.no_plots, "Skip errors.png and path.png");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
@@ -92,6 +94,7 @@ int run_simulate(const SimulateArgs& args) {
   folder.commit();
 
   if (args.json) {
+    summary["output"] = folder.target().string();  // where the files are (not in the file)
     std::cout << summary.dump(2) << '\n';
   } else {
     // What happened, in words a person reads: settle time or "never", perception only where

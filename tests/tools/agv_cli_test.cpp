@@ -64,6 +64,7 @@ TEST_F(AgvCli, JsonSummaryOnStdout) {
   ASSERT_NE(brace, std::string::npos);
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(brace));
   EXPECT_EQ(j["frames"], 11);
+  EXPECT_EQ(j["output"], path("run"));  // where the files went, also with --json
   // Which program made it: version, commit (12 hex digits, or "unknown" outside a clone), date.
   const std::string commit = j["agv"]["commit"].get<std::string>();
   EXPECT_TRUE(
