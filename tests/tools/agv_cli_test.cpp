@@ -168,8 +168,16 @@ TEST_F(AgvCli, BadInputExitsWithCode2AndLeavesNoResult) {
   for (const auto& entry : fs::directory_iterator(dir_)) {
     EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
   }
-  EXPECT_EQ(run("simulate --no-such-option").exit_code, 2);
-  EXPECT_EQ(run("").exit_code, 2);
+  // Argument errors are worded as the program's own: "agv <command>: error: ...".
+  for (const auto& [arguments, prefix] :
+       {std::pair<std::string, std::string>{"simulate --no-such-option", "agv simulate: error: "},
+        {"bench --frames 3", "agv bench: error: --frames"},
+        {"calibrate intrinsics", "agv calibrate intrinsics: error: --images"},
+        {"", "agv: error: "}}) {
+    const Result r = run(arguments);
+    EXPECT_EQ(r.exit_code, 2) << arguments;
+    EXPECT_EQ(r.output.rfind(prefix, 0), 0u) << arguments << "\n" << r.output;
+  }
 }
 
 TEST_F(AgvCli, HelpTellsWhatItDoes) {
