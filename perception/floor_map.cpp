@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
+#include <mutex>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace agv::perception {
@@ -55,6 +59,43 @@ FloorMap::FloorMap(const CameraModel& camera) {
     std::nth_element(samples.begin(), samples.begin() + samples.size() / 2, samples.end());
     typical_footprint_m_ = samples[samples.size() / 2];
   }
+}
+
+namespace {
+
+// Everything a floor map depends on, as bytes: cameras with the same key have the same map.
+std::string camera_key(const CameraModel& camera) {
+  const CameraIntrinsics& in = camera.intrinsics();
+  std::vector<double> numbers = {static_cast<double>(in.width_px),
+                                 static_cast<double>(in.height_px), in.fisheye ? 1.0 : 0.0};
+  for (int i = 0; i < 9; ++i) numbers.push_back(in.camera_matrix.val[i]);
+  numbers.insert(numbers.end(), in.distortion.begin(), in.distortion.end());
+  for (int i = 0; i < 3; ++i) numbers.push_back(camera.mount().xyz_m[i]);
+  for (int i = 0; i < 3; ++i) numbers.push_back(camera.mount().rpy_rad[i]);
+  return std::string(reinterpret_cast<const char*>(numbers.data()),
+                     numbers.size() * sizeof(double));
+}
+
+}  // namespace
+
+std::shared_ptr<const FloorMap> FloorMap::shared(const CameraModel& camera) {
+  constexpr size_t kKept = 8;
+  static std::mutex mutex;
+  static std::deque<std::pair<std::string, std::shared_ptr<const FloorMap>>> kept;
+  const std::string key = camera_key(camera);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const auto& [k, map] : kept)
+      if (k == key) return map;
+  }
+  // Made outside the lock (two threads may both make the first one; the first kept wins).
+  auto made = std::make_shared<const FloorMap>(camera);
+  const std::lock_guard<std::mutex> lock(mutex);
+  for (const auto& [k, map] : kept)
+    if (k == key) return map;
+  kept.emplace_back(key, made);
+  if (kept.size() > kKept) kept.pop_front();
+  return made;
 }
 
 std::optional<Eigen::Vector2d> FloorMap::at(double u_px, double v_px) const {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
 
@@ -13,6 +14,11 @@ namespace agv::perception {
 class FloorMap {
  public:
   explicit FloorMap(const CameraModel& camera);
+
+  // The map of a camera, made once per process for every camera with the same intrinsics and
+  // mount (making one undistorts every pixel: 0.1-0.3 s at VGA) and shared, read-only, by the
+  // renderer and the estimators of every run. Thread-safe; the last 8 cameras are kept.
+  static std::shared_ptr<const FloorMap> shared(const CameraModel& camera);
 
   const cv::Mat& x_m() const { return x_m_; }  // CV_32F, image size
   const cv::Mat& y_m() const { return y_m_; }

@@ -26,8 +26,7 @@ Eigen::Matrix3d homogeneous(const Pose2& pose) {
 //   p = centre + res (size/2 - r, size/2 - c).
 FloorOdometry::FloorOdometry(const CameraModel& camera, const Options& options)
     : options_(options) {
-  const FloorMap floor(camera);
-  centre_m_ = floor.view_centre_m();
+  centre_m_ = FloorMap::shared(camera)->view_centre_m();
   const int size = static_cast<int>(std::round(2.0 * options_.half_size_m / options_.resolution_m));
   const double res = options_.resolution_m, half = size / 2.0;
   to_floor_ << 0.0, -res, centre_m_.x() + res * half, -res, 0.0, centre_m_.y() + res * half, 0.0,

@@ -92,13 +92,13 @@ std::optional<PredictedBand> band_of(const LineDetection& previous, const cv::Si
 }  // namespace
 
 LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
-    : camera_(camera), options_(options), floor_map_(camera) {
+    : camera_(camera), options_(options), floor_map_(FloorMap::shared(camera)) {
   // Tape width in downsampled pixels at the middle of the view; without a configured width,
   // widths from 8 to 128 mm in steps of 2x (a bar detector answers to about 0.7-1.4 times its
   // width), those that fit the view: a bar and its flanks (twice its width) across at most the
   // image's shorter side (a wider bar answers to the lens's vignetting and the light's
   // gradient, not to tape).
-  const double footprint_m = std::max(1e-6, floor_map_.typical_footprint_m());
+  const double footprint_m = std::max(1e-6, floor_map_->typical_footprint_m());
   const double widest_m =
       std::min(camera.intrinsics().width_px, camera.intrinsics().height_px) * footprint_m / 2.0;
   std::vector<double> widths_m;
@@ -122,7 +122,7 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
   const double reference_width_m = options_.tape.width_m > 0.0 ? options_.tape.width_m : 0.025;
   options_.lines.fit.inlier_threshold_m =
       std::max(options_.lines.fit.inlier_threshold_m, 0.12 * reference_width_m);
-  options_.lines.full_span_m = floor_map_.view_radius_m();
+  options_.lines.full_span_m = floor_map_->view_radius_m();
   options_.lines.scan_spacing_m = footprint_m * std::max(1, options_.scan.step);
 }
 
@@ -208,7 +208,7 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
   std::optional<PredictedBand> band = band_of(previous, frame.size());
   if (!band) return not_found(stamp_s, "no line in the frame before to track", &d);
   const DetectedLine& prior = previous.lines[previous.followed];
-  const double footprint_m = floor_map_.typical_footprint_m();
+  const double footprint_m = floor_map_->typical_footprint_m();
   band->step = std::max(1, options_.track_step);
   band->min_contrast = options_.scan.min_contrast_to_noise * std::max(previous.floor_noise, 0.01f);
   EdgeScanOptions scan = options_.scan;
@@ -243,8 +243,8 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
 
 void LineEstimator::add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const {
   for (const EdgePair& pair : edges) {
-    const auto a = floor_map_.at(pair.first_px.x, pair.first_px.y);
-    const auto b = floor_map_.at(pair.second_px.x, pair.second_px.y);
+    const auto a = floor_map_->at(pair.first_px.x, pair.first_px.y);
+    const auto b = floor_map_->at(pair.second_px.x, pair.second_px.y);
     if (!a || !b) continue;
     d->edges.push_back(pair);
     d->chords.push_back({*a, *b});

@@ -88,7 +88,7 @@ class LineEstimator {
                         LineDetection* details = nullptr,
                         const FollowHistory* history = nullptr) const;
 
-  const FloorMap& floor_map() const { return floor_map_; }
+  const FloorMap& floor_map() const { return *floor_map_; }
   const CameraModel& camera() const { return camera_; }
   const Options& options() const { return options_; }
 
@@ -106,9 +106,9 @@ class LineEstimator {
 
   CameraModel camera_;
   Options options_;
-  FloorMap floor_map_;
-  std::vector<double> bar_widths_small_px_;  // bar detector widths (see find_tape_regions)
-  double tape_width_px_ = 0.0;               // largest expected tape width in full-size pixels
+  std::shared_ptr<const FloorMap> floor_map_;  // FloorMap::shared
+  std::vector<double> bar_widths_small_px_;    // bar detector widths (see find_tape_regions)
+  double tape_width_px_ = 0.0;                 // largest expected tape width in full-size pixels
   // With a configured width: the same estimator for tape of any width (the hint's fallback).
   std::shared_ptr<const LineEstimator> any_width_;
 };

@@ -4,13 +4,16 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "common/angles.h"
+#include "common/input_error.h"
 #include "common/statistics.h"
 #include "control/line_tracker.h"
 #include "perception/hough_baseline.h"
@@ -18,8 +21,11 @@
 #include "pipeline/config/factory.h"
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
+#include "pipeline/evaluation/output_folder.h"
 #include "pipeline/sim/frame_renderer.h"
 #include "tools/build_info.h"
+#include "tools/peak_memory.h"
+#include "tools/progress_bar.h"
 
 namespace agv::tools {
 namespace {
@@ -69,9 +75,16 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
       ->check(CLI::Range(1, 256))
       ->capture_default_str();
   sub->add_flag("--json", args.json, "Print one JSON object instead of the table");
+  sub->add_flag("--quiet", args.quiet, "No progress bar");
+  sub->add_option("--out", args.out,
+                  "Also write the table (bench.txt) and the JSON (bench.json) to this folder");
+  sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
 }
 
 int run_bench(const BenchArgs& args) {
+  // The output folder first: a folder that may not be replaced is refused before the work.
+  std::optional<pipeline::OutputFolder> folder;
+  if (!args.out.empty()) folder.emplace(args.out, "bench.json", args.force);
   cv::setNumThreads(args.threads);
   const pipeline::Scenario scenario =
       pipeline::load_scenario_for_command(args.scenario, args.overrides);
@@ -105,9 +118,11 @@ int run_bench(const BenchArgs& args) {
   const perception::HoughBaseline baseline(camera, options.tape.width_m);
   control::LineTracker tracker = pipeline::make_tracker(scenario, scenario.controller.ts_s);
   StageRecord tracked, searched, hough;
-  std::vector<double> render_us, control_us;
+  std::vector<double> render_us, control_us, step_us;
   cv::Mat frame;
+  ProgressBar bar("timing " + std::to_string(poses.size()) + " frames", !args.quiet && !args.json);
   for (size_t i = 0; i < poses.size(); ++i) {
+    bar.update(static_cast<double>(i) / poses.size());
     const double t = i * pipeline::camera_period_s(scenario);
     const Clock::time_point t0 = Clock::now();
     renderer->render_into(poses[i], twists[i], static_cast<std::uint64_t>(i), &frame);
@@ -125,9 +140,13 @@ int run_bench(const BenchArgs& args) {
     searched.add(microseconds(t2, t3), m_full, truths[i]);
     hough.add(microseconds(t3, t4), m_hough, truths[i]);
     control_us.push_back(microseconds(t4, t5));
+    // One closed-loop step as lockstep runs it: render, perceive as the loop does, control.
+    step_us.push_back(microseconds(t0, t2) + microseconds(t4, t5));
   }
+  bar.finish();
   const int frames = static_cast<int>(poses.size());
-  const double speedup = percentile(hough.us, 0.5) / std::max(1e-9, percentile(tracked.us, 0.5));
+  const double baseline_median_us = percentile(hough.us, 0.5);
+  const double speedup = baseline_median_us / std::max(1e-9, percentile(tracked.us, 0.5));
 
   nlohmann::json j;
   j["scenario"] = scenario.source_name;
@@ -140,43 +159,74 @@ int run_bench(const BenchArgs& args) {
   // The keys of DESIGN.md ("Speed figures"), then the detail.
   j["perceive_us_median"] = percentile(tracked.us, 0.5);
   j["perceive_us_p99"] = percentile(tracked.us, 0.99);
-  j["baseline_canny_hough_us_median"] = percentile(hough.us, 0.5);
+  j["baseline_canny_hough_us_median"] = baseline_median_us;
   j["perceive"] = tracked.json();
   j["perceive"]["frames_tracked"] = tracking.counts().tracked;
   j["perceive_full_search"] = searched.json();
   j["baseline_canny_hough"] = hough.json();
   j["baseline_over_perceive_median"] = speedup;
+  j["full_search_over_baseline_median"] =
+      percentile(searched.us, 0.5) / std::max(1e-9, baseline_median_us);
+  j["full_search_over_baseline_p99"] =
+      percentile(searched.us, 0.99) / std::max(1e-9, percentile(hough.us, 0.99));
+  j["perceive_p99_over_baseline_median"] =
+      percentile(tracked.us, 0.99) / std::max(1e-9, baseline_median_us);
   j["control_us_median"] = percentile(control_us, 0.5);
   j["control_us_p99"] = percentile(control_us, 0.99);
+  j["closed_loop_step_us_median"] = percentile(step_us, 0.5);
+  j["closed_loop_step_over_baseline_median"] =
+      percentile(step_us, 0.5) / std::max(1e-9, baseline_median_us);
   j["closed_loop_fps"] = closed_loop_fps;
   j["setup_ms"] = 1e3 * run.setup_wall_s;
+  j["peak_rss_mb"] = peak_rss_mb();
   j["agv"] = build_json();
-  if (args.json) {
-    std::cout << j.dump(2) << '\n';
-    return 0;
-  }
-  std::printf("agv bench: %d consecutive frames %s of the closed loop (%s), %d thread(s)\n", frames,
-              j["image"].get<std::string>().c_str(), scenario.source_name.c_str(), args.threads);
-  std::printf("%-40s %10s %10s %7s %10s %10s\n", "stage (per frame)", "median_us", "p99_us",
-              "found", "rms_e_d_mm", "rms_e_th_deg");
+
+  std::string table;
+  auto line = [&table](const std::string& text) { table += text + "\n"; };
+  line(cv::format("agv bench: %d consecutive frames %s of the closed loop (%s), %d thread(s)",
+                  frames, j["image"].get<std::string>().c_str(), scenario.source_name.c_str(),
+                  args.threads));
+  line(cv::format("%-44s %10s %10s %7s %10s %10s", "stage (per frame)", "median_us", "p99_us",
+                  "found", "rms_e_d_mm", "rms_e_th_deg"));
   auto row = [&](const char* name, const StageRecord& r) {
-    std::printf("%-40s %10.1f %10.1f %7d %10.3f %10.3f\n", name, percentile(r.us, 0.5),
-                percentile(r.us, 0.99), r.found, 1e3 * rms(r.error_e_d_m),
-                rad_to_deg(rms(r.error_e_theta_rad)));
+    line(cv::format("%-44s %10.1f %10.1f %7d %10.3f %10.3f", name, percentile(r.us, 0.5),
+                    percentile(r.us, 0.99), r.found, 1e3 * rms(r.error_e_d_m),
+                    rad_to_deg(rms(r.error_e_theta_rad))));
   };
-  std::printf("%-40s %10.1f %10.1f\n", "render", percentile(render_us, 0.5),
-              percentile(render_us, 0.99));
+  line(cv::format("%-44s %10.1f %10.1f", "render", percentile(render_us, 0.5),
+                  percentile(render_us, 0.99)));
   row("perceive (tracking + search every 10th)", tracked);
   row("perceive, full search only", searched);
   row("baseline blur+Canny+HoughLinesP", hough);
-  std::printf("%-40s %10.2f %10.2f\n", "control", percentile(control_us, 0.5),
-              percentile(control_us, 0.99));
-  std::printf("baseline / perceive (median): %.1fx; tracked %d of %d frames\n", speedup,
-              tracking.counts().tracked, frames);
-  std::printf(
-      "closed loop (render + perceive + control, lockstep): %.0f frames/s (after %.0f ms of "
-      "set-up)\n",
-      closed_loop_fps, 1e3 * run.setup_wall_s);
+  line(cv::format("%-44s %10.2f %10.2f", "control", percentile(control_us, 0.5),
+                  percentile(control_us, 0.99)));
+  line(cv::format("%-44s %10.1f %10.1f", "closed-loop step (render + perceive + control)",
+                  percentile(step_us, 0.5), percentile(step_us, 0.99)));
+  line(cv::format(
+      "baseline / perceive (median): %.1fx; perceive p99 / baseline median: %.2f; "
+      "full search / baseline: %.2f (median), %.2f (p99); tracked %d of %d frames",
+      speedup, j["perceive_p99_over_baseline_median"].get<double>(),
+      j["full_search_over_baseline_median"].get<double>(),
+      j["full_search_over_baseline_p99"].get<double>(), tracking.counts().tracked, frames));
+  line(
+      cv::format("closed-loop step / baseline (median): %.2f; closed loop (lockstep): %.0f "
+                 "frames/s (after %.0f ms of set-up); peak RSS %.0f MB",
+                 j["closed_loop_step_over_baseline_median"].get<double>(), closed_loop_fps,
+                 1e3 * run.setup_wall_s, j["peak_rss_mb"].get<double>()));
+  if (folder) {
+    std::ofstream(folder->file("bench.txt")) << table;
+    std::ofstream json(folder->file("bench.json"));
+    json << j.dump(2) << '\n';
+    if (!json) throw InputError(folder->target().string() + ": cannot write bench.json");
+    folder->commit();
+    j["output"] = folder->target().string();
+  }
+  if (args.json) {
+    std::cout << j.dump(2) << '\n';
+  } else {
+    std::cout << table;
+    if (folder) std::cout << "output: " << folder->target().string() << '\n';
+  }
   return 0;
 }
 

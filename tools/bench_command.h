@@ -12,6 +12,9 @@ struct BenchArgs {
   std::vector<std::string> overrides;  // --set KEY=VALUE
   int threads = 1;
   bool json = false;
+  bool quiet = false;
+  std::string out;  // "": no files; else a folder for bench.txt and bench.json
+  bool force = false;
 };
 
 void add_bench_command(CLI::App& app, BenchArgs& args);

@@ -17,6 +17,7 @@
 #include "pipeline/evaluation/compare_run.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "tools/build_info.h"
+#include "tools/peak_memory.h"
 #include "tools/compare_report.h"
 #include "tools/progress_bar.h"
 
@@ -274,6 +275,7 @@ int run_compare(const CompareArgs& args) {
     j["wall_s"] = wall_s;
     j["output"] = folder.target().string();
     j["agv"] = build_json();
+    j["peak_rss_mb"] = peak_rss_mb();  // so far: the run's peak
     for (const CompareRun& r : runs) {
       j["per_run"].push_back(
           {{"controller", r.controller},

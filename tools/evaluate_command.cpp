@@ -11,6 +11,7 @@
 #include "pipeline/evaluation/output_folder.h"
 #include "pipeline/evaluation/perception_benchmark.h"
 #include "tools/build_info.h"
+#include "tools/peak_memory.h"
 #include "tools/progress_bar.h"
 
 namespace agv::tools {
@@ -63,6 +64,7 @@ int run_evaluate(const EvaluateArgs& args) {
   }
   nlohmann::json j = result.summary;
   j["agv"] = build_json();
+  j["peak_rss_mb"] = peak_rss_mb();  // so far: the run's peak
   if (folder) {
     std::ofstream csv(folder->file("frames.csv"));
     csv << "condition,has_tape,curved,visible_fraction,line_found,error_e_d_m,error_e_theta_rad,"

@@ -12,6 +12,7 @@
 #include "pipeline/dataset.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "tools/build_info.h"
+#include "tools/peak_memory.h"
 #include "tools/progress_bar.h"
 
 namespace agv::tools {
@@ -82,6 +83,7 @@ int run_record(const RecordArgs& args) {
     j["bytes"] = bytes;
     j["output"] = folder.target().string();
     j["agv"] = build_json();
+    j["peak_rss_mb"] = peak_rss_mb();  // so far: the run's peak
     std::cout << j.dump(2) << '\n';
     return 0;
   }

@@ -16,6 +16,7 @@
 #include "pipeline/evaluation/output_folder.h"
 #include "pipeline/evaluation/trace_csv.h"
 #include "tools/build_info.h"
+#include "tools/peak_memory.h"
 #include "tools/progress_bar.h"
 #include "tools/run_plots.h"
 
@@ -71,6 +72,7 @@ int run_simulate(const SimulateArgs& args) {
   const pipeline::RunMetrics metrics = pipeline::compute_metrics(run, scenario);
   nlohmann::json summary = pipeline::summary_json(metrics, run, scenario);
   summary["agv"] = build_json();
+  summary["peak_rss_mb"] = peak_rss_mb();  // so far: the run's peak
   {
     std::ofstream trace(folder.file("trace.csv"));
     pipeline::write_trace_csv(trace, run);

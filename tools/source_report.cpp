@@ -15,6 +15,7 @@
 #include "pipeline/evaluation/frame_annotation.h"
 #include "pipeline/evaluation/trace_csv.h"
 #include "tools/build_info.h"
+#include "tools/peak_memory.h"
 #include "tools/gnuplot.h"
 #include "tools/tape_width_check.h"
 
@@ -214,6 +215,7 @@ void finish_source_run(pipeline::OutputFolder& folder, const pipeline::RunResult
                        const std::vector<std::string>& already_said) {
   const bool has_truth = setup.opened.has_truth;
   summary["agv"] = build_json();
+  summary["peak_rss_mb"] = peak_rss_mb();  // so far: the run's peak
   {
     std::ofstream csv(folder.file("measurements.csv"));
     pipeline::write_measurements_csv(csv, result.frames, has_truth);

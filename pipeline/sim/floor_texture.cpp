@@ -1,13 +1,19 @@
 #include "pipeline/sim/floor_texture.h"
 
 #include <cmath>
+#include <deque>
+#include <mutex>
 #include <opencv2/core.hpp>
+#include <tuple>
+#include <utility>
 
 namespace agv::pipeline {
 
-FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t seed)
-    : texel_m_(texel_m), inverse_texel_m_(static_cast<float>(1.0 / texel_m)) {
-  const int n = kTileTexels;
+namespace {
+
+// The tile for one (texel, feature size, seed): two 1024 x 1024 DFTs (about 0.1 s).
+cv::Mat make_tile(double texel_m, double feature_size_m, std::uint64_t seed) {
+  const int n = FloorTexture::kTileTexels;
   cv::RNG rng(seed ^ 0x5eed7e47u);
   cv::Mat white(n, n, CV_32F);
   rng.fill(white, cv::RNG::NORMAL, 0.0, 1.0);
@@ -31,10 +37,36 @@ FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t 
       c *= static_cast<float>(gain);
     }
   }
-  cv::dft(spectrum, texels_, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
+  cv::Mat tile;
+  cv::dft(spectrum, tile, cv::DFT_INVERSE | cv::DFT_REAL_OUTPUT | cv::DFT_SCALE);
   cv::Scalar mean, stddev;
-  cv::meanStdDev(texels_, mean, stddev);
-  texels_ = (texels_ - mean[0]) / std::max(stddev[0], 1e-12);
+  cv::meanStdDev(tile, mean, stddev);
+  return (tile - mean[0]) / std::max(stddev[0], 1e-12);
+}
+
+}  // namespace
+
+FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t seed)
+    : texel_m_(texel_m), inverse_texel_m_(static_cast<float>(1.0 / texel_m)) {
+  // Made once per process for each (texel, feature size, seed) and shared read-only (every run
+  // of a comparison suite has the same floor); the last 8 are kept.
+  using Key = std::tuple<double, double, std::uint64_t>;
+  static std::mutex mutex;
+  static std::deque<std::pair<Key, cv::Mat>> kept;
+  const Key key{texel_m, feature_size_m, seed};
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const auto& [k, tile] : kept) {
+      if (k == key) {
+        texels_ = tile;
+        return;
+      }
+    }
+  }
+  texels_ = make_tile(texel_m, feature_size_m, seed);
+  const std::lock_guard<std::mutex> lock(mutex);
+  kept.emplace_back(key, texels_);
+  if (kept.size() > 8) kept.pop_front();
 }
 
 }  // namespace agv::pipeline

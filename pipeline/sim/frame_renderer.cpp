@@ -20,13 +20,16 @@ constexpr int kNoiseMargin = 64;      // random offsets into the noise bank per 
 constexpr float kNoiseScale = 25.0f;  // int8 noise bank: standard normal x 25, clipped at 5 sigma
 constexpr double kTexel_m = 0.0005;
 constexpr int kMaxBlurSamples = 12;
+// Tape coverage is first bounded on every 16th pixel of a row; only the stretches that the tape
+// can reach are drawn pixel by pixel.
+constexpr int kCoarseStep = 16;
 
 }  // namespace
 
 FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene& scene)
     : camera_(camera),
       scene_(scene),
-      floor_map_(camera),
+      floor_map_(perception::FloorMap::shared(camera)),
       texture_(kTexel_m, scene.floor.texture_feature_m, scene.seed),
       pieces_(tape_pieces(scene.tapes)) {
   make_tag_patterns();
@@ -57,8 +60,8 @@ void FrameRenderer::make_tag_patterns() {
 void FrameRenderer::make_floor_grids() {
   const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
   // Pixels that see no floor get floor point (0, 0) and zero gain: black plus noise.
-  cv::patchNaNs(floor_x_m_ = floor_map_.x_m().clone(), 0.0);
-  cv::patchNaNs(floor_y_m_ = floor_map_.y_m().clone(), 0.0);
+  cv::patchNaNs(floor_x_m_ = floor_map_->x_m().clone(), 0.0);
+  cv::patchNaNs(floor_y_m_ = floor_map_->y_m().clone(), 0.0);
   // The floor texture is sampled on a half-resolution grid and interpolated: its finest
   // features span several pixels, so this loses nothing visible and saves 3/4 of the lookups.
   const cv::Size texture_grid((w + 1) / 2, (h + 1) / 2);
@@ -87,7 +90,7 @@ void FrameRenderer::make_gain_and_glare() {
       const double softness = std::max(1e-3, fx.shadow_softness * w / (0.5 * std::max(w, h)));
       const double shadowed = 0.5 * (1.0 + std::tanh((across - fx.shadow_offset) / softness));
       const double shadow = 1.0 - fx.shadow_darkness * shadowed;
-      const bool sees_floor = std::isfinite(floor_map_.x_m().at<float>(v, u));
+      const bool sees_floor = std::isfinite(floor_map_->x_m().at<float>(v, u));
       gain_.at<float>(v, u) =
           sees_floor ? static_cast<float>(fx.brightness * vignette * gradient * shadow) : 0.0f;
       // A specular glare: a Gaussian spot of added light.
@@ -118,7 +121,7 @@ void FrameRenderer::make_tape_tables() {
     cv::Mat inverse_ramp(h, w, CV_32F);
     const float softness_sq = static_cast<float>(strip.edge_softness_m * strip.edge_softness_m);
     for (int v = 0; v < h; ++v) {
-      const float* footprint = floor_map_.footprint_m().ptr<float>(v);
+      const float* footprint = floor_map_->footprint_m().ptr<float>(v);
       float* out = inverse_ramp.ptr<float>(v);
       for (int u = 0; u < w; ++u) {
         const float f = std::isfinite(footprint[u]) ? footprint[u] : 1.0f;
@@ -126,6 +129,21 @@ void FrameRenderer::make_tape_tables() {
       }
     }
     inverse_ramp_.push_back(inverse_ramp);
+    // Coverage 0.5 + (w/2 - d) / ramp is 0 from d = w/2 + ramp/2 on.
+    std::vector<float> reach(h);
+    for (int v = 0; v < h; ++v) {
+      double smallest_inverse = 0.0;
+      cv::minMaxLoc(inverse_ramp.row(v), &smallest_inverse);
+      reach[v] = static_cast<float>(strip.width_m / 2.0 + 0.5 / smallest_inverse);
+    }
+    tape_reach_m_.push_back(reach);
+  }
+  row_step_m_.assign(h, 0.0f);
+  for (int v = 0; v < h; ++v) {
+    const float* xs = floor_x_m_.ptr<float>(v);
+    const float* ys = floor_y_m_.ptr<float>(v);
+    for (int u = 0; u + 1 < w; ++u)
+      row_step_m_[v] = std::max(row_step_m_[v], std::hypot(xs[u + 1] - xs[u], ys[u + 1] - ys[u]));
   }
 }
 
@@ -162,11 +180,11 @@ std::vector<FrameRenderer::SubPose> FrameRenderer::sub_poses(const Pose2& pose,
     poses[k].tx = static_cast<float>(p.x_m);
     poses[k].ty = static_cast<float>(p.y_m);
     if (!with_pieces) continue;
-    const Eigen::Vector2d view_world = p.transform(floor_map_.view_centre_m());
+    const Eigen::Vector2d view_world = p.transform(floor_map_->view_centre_m());
     const Pose2 inverse = p.inverse();
     for (const WorldPiece& piece : pieces_) {
       const double reach_m =
-          floor_map_.view_radius_m() + piece.bound_radius_m + scene_.tapes[piece.strip].width_m;
+          floor_map_->view_radius_m() + piece.bound_radius_m + scene_.tapes[piece.strip].width_m;
       if ((piece.bound_centre - view_world).norm() > reach_m) continue;
       poses[k].pieces.push_back(to_local(piece, inverse));
     }
@@ -204,9 +222,9 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   // features span several pixels, with poses at most 3 px apart.
   const double speed_m_s =
       std::hypot(twist.vx_m_s, twist.vy_m_s) +
-      std::abs(twist.wz_rad_s) * (floor_map_.view_centre_m().norm() + floor_map_.view_radius_m());
+      std::abs(twist.wz_rad_s) * (floor_map_->view_centre_m().norm() + floor_map_->view_radius_m());
   const double blur_px =
-      speed_m_s * fx.exposure_s / std::max(1e-6, floor_map_.typical_footprint_m());
+      speed_m_s * fx.exposure_s / std::max(1e-6, floor_map_->typical_footprint_m());
   const int tape_samples = std::clamp(static_cast<int>(std::ceil(blur_px)), 1, kMaxBlurSamples);
   const int texture_samples =
       std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
@@ -262,18 +280,52 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   const float* inverse_ramp = inverse_ramp_[i].ptr<float>(v);
   const TapeStrip& tape = scene_.tapes[i];
   const float half_width = static_cast<float>(tape.width_m / 2.0);
+  // Every kCoarseStep-th pixel of the row (and its last): between two of them the distance to a
+  // piece can fall by at most half their floor separation below the mean of theirs (distance is
+  // 1-Lipschitz), so a stretch whose bound exceeds the tape's reach shows none of it. The image
+  // is the same as drawing every pixel; the margin covers float rounding.
+  const int coarse = (w - 1 + kCoarseStep - 1) / kCoarseStep + 1;
+  b->coarse_x.resize(coarse);
+  b->coarse_y.resize(coarse);
+  b->coarse_distance.resize(coarse);
+  for (int k = 0; k < coarse; ++k) {
+    const int u = std::min(k * kCoarseStep, w - 1);
+    b->coarse_x[k] = xs[u];
+    b->coarse_y[k] = ys[u];
+  }
+  const float reach_m = tape_reach_m_[i][v] + 1e-4f;
+  const float half_span_m = 0.5f * kCoarseStep * row_step_m_[v];
   for (const SubPose& sp : *row.tape_poses) {
     std::fill(b->coverage.begin(), b->coverage.end(), 0.0f);
     bool any = false;
     for (const LocalPiece& piece : sp.pieces) {
       if (piece.strip != i) continue;
       any = true;
-      piece_distances(piece, xs, ys, w, b->distance.data());
-      for (int u = 0; u < w; ++u) {
-        // min/max rather than std::clamp: the latter's branches keep this from vectorising.
-        const float a =
-            std::min(std::max(0.5f + (half_width - b->distance[u]) * inverse_ramp[u], 0.0f), 1.0f);
-        b->coverage[u] = std::max(b->coverage[u], a);
+      piece_distances(piece, b->coarse_x.data(), b->coarse_y.data(), coarse,
+                      b->coarse_distance.data(), /*cuts=*/false);
+      for (int k = 0; k + 1 < coarse;) {
+        // The longest run of stretches that the tape may reach, drawn in one go.
+        int end = k;
+        while (end + 1 < coarse &&
+               0.5f * (b->coarse_distance[end] + b->coarse_distance[end + 1]) - half_span_m <=
+                   reach_m)
+          ++end;
+        if (end == k) {
+          ++k;
+          continue;
+        }
+        const int first = k * kCoarseStep, last = std::min(end * kCoarseStep, w - 1);
+        const int count = last - first + 1;
+        piece_distances(piece, xs + first, ys + first, count, b->distance.data());
+        float* coverage = b->coverage.data() + first;
+        const float* ramp = inverse_ramp + first;
+        for (int u = 0; u < count; ++u) {
+          // min/max rather than std::clamp: the latter's branches keep this from vectorising.
+          const float a =
+              std::min(std::max(0.5f + (half_width - b->distance[u]) * ramp[u], 0.0f), 1.0f);
+          coverage[u] = std::max(coverage[u], a);
+        }
+        k = end;
       }
     }
     if (!any) continue;

@@ -31,13 +31,13 @@ class FrameRenderer {
   void render_into(const Pose2& pose, const BodyTwist& twist, std::uint64_t frame_index,
                    cv::Mat* frame) const;
 
-  const perception::FloorMap& floor_map() const { return floor_map_; }
+  const perception::FloorMap& floor_map() const { return *floor_map_; }
   const Scene& scene() const { return scene_; }
 
  private:
   perception::CameraModel camera_;
   Scene scene_;
-  perception::FloorMap floor_map_;
+  std::shared_ptr<const perception::FloorMap> floor_map_;  // FloorMap::shared
   FloorTexture texture_;
   cv::Mat floor_x_m_, floor_y_m_;      // the floor map with 0 where no floor is seen
   cv::Mat texture_x_m_, texture_y_m_;  // the same on the half-resolution texture grid
@@ -55,6 +55,11 @@ class FrameRenderer {
   // Tags drawn into one row of colour buffers (no motion blur: tags serve static calibration).
   void draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green, float* red) const;
   std::vector<cv::Mat> inverse_ramp_;  // CV_32F per strip: 1 / edge ramp width at each pixel
+  // Per strip and row: beyond this distance from its centre line a pixel shows no tape (half
+  // the width plus half the widest edge ramp in the row), metres.
+  std::vector<std::vector<float>> tape_reach_m_;
+  // Per row: the largest floor distance between neighbouring pixels, metres.
+  std::vector<float> row_step_m_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
     cv::Mat texture_small, texture_image, planes[3];
   };
@@ -94,6 +99,7 @@ class FrameRenderer {
           red(width),
           alpha(strips, std::vector<float>(width)) {}
     std::vector<float> distance, coverage, blue, green, red;
+    std::vector<float> coarse_x, coarse_y, coarse_distance;  // every kCoarseStep-th pixel
     std::vector<std::vector<float>> alpha;  // per strip: coverage summed over the exposure
   };
   void shade_floor_row(int v, const RowContext& row, RowBuffers* buffers) const;

@@ -127,13 +127,13 @@ LocalPiece to_local(const WorldPiece& w, const Pose2& vehicle_inverse) {
 }
 
 void piece_distances(const LocalPiece& piece, const float* xs, const float* ys, int count,
-                     float* distance) {
+                     float* distance, bool cuts) {
   constexpr float kFar = 1e30f;
   constexpr float kInf = std::numeric_limits<float>::infinity();
   // Past a flat end the tape is cut: positions along the piece outside [cut_before, cut_after].
-  const float cut_before = piece.flat_start ? 0.0f : -kInf;
+  const float cut_before = cuts && piece.flat_start ? 0.0f : -kInf;
   if (!piece.is_arc) {
-    const float cut_after = piece.flat_end ? piece.length : kInf;
+    const float cut_after = cuts && piece.flat_end ? piece.length : kInf;
     // Locals, so that the compiler knows that writing `distance` cannot change them.
     const float ax = piece.ax, ay = piece.ay, tx = piece.tx, ty = piece.ty, length = piece.length;
     for (int u = 0; u < count; ++u) {
@@ -146,8 +146,8 @@ void piece_distances(const LocalPiece& piece, const float* xs, const float* ys, 
     }
     return;
   }
-  const float start_weight = piece.flat_start ? kFar : 0.0f;
-  const float end_weight = piece.flat_end ? kFar : 0.0f;
+  const float start_weight = cuts && piece.flat_start ? kFar : 0.0f;
+  const float end_weight = cuts && piece.flat_end ? kFar : 0.0f;
   const float cx = piece.cx, cy = piece.cy, radius = piece.radius, sign = piece.turn_sign;
   const float r0x = piece.r0x, r0y = piece.r0y, r1x = piece.r1x, r1y = piece.r1y;
   const float ax = piece.ax, ay = piece.ay, bx = piece.bx, by = piece.by;

@@ -45,9 +45,11 @@ struct LocalPiece {
 std::vector<WorldPiece> tape_pieces(const std::vector<TapeStrip>& tapes);
 
 // Distance from each of `count` floor points (vehicle frame) to a piece's centre line; a very
-// large value past a flat end. Branch-free loops that the compiler can vectorise.
+// large value past a flat end (with `cuts`; without, the distance to the centre line's piece
+// itself: never more than with them, and 1-Lipschitz in the point, which bounds it between
+// points). Branch-free loops that the compiler can vectorise.
 void piece_distances(const LocalPiece& piece, const float* xs, const float* ys, int count,
-                     float* distance);
+                     float* distance, bool cuts = true);
 
 // A piece seen from a vehicle pose (pass the inverse of the vehicle's pose in the world).
 LocalPiece to_local(const WorldPiece& piece, const Pose2& vehicle_inverse);

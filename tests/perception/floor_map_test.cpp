@@ -55,5 +55,21 @@ TEST(FloorMap, PixelsAboveTheHorizonSeeNoFloor) {
   EXPECT_TRUE(map.at(320.0, 479.0));
 }
 
+// One map per camera: the same intrinsics and mount share it (the renderer and estimators of
+// every run), another mount has its own, equal to one made directly.
+TEST(FloorMap, SharedOncePerCamera) {
+  const CameraModel a(testing::default_intrinsics(), testing::straight_down_mount());
+  const CameraModel same(testing::default_intrinsics(), testing::straight_down_mount());
+  const CameraModel moved(testing::default_intrinsics(), testing::straight_down_mount(0.31));
+  const auto first = FloorMap::shared(a);
+  EXPECT_EQ(FloorMap::shared(same).get(), first.get());
+  const auto other = FloorMap::shared(moved);
+  EXPECT_NE(other.get(), first.get());
+  const FloorMap direct(moved);
+  EXPECT_EQ(cv::norm(other->x_m(), direct.x_m(), cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(other->y_m(), direct.y_m(), cv::NORM_INF), 0.0);
+  EXPECT_NEAR(other->at(319.5, 239.5)->x(), 0.31, 1e-6);  // the principal point: below it
+}
+
 }  // namespace
 }  // namespace agv::perception
