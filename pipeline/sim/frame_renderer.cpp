@@ -295,8 +295,11 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   }
   const float reach_m = tape_reach_m_[i][v] + 1e-4f;
   const float half_span_m = 0.5f * kCoarseStep * row_step_m_[v];
+  // Columns [drawn_first, drawn_last] hold all the tape of this row (alpha is 0 outside);
+  // b->coverage is 0 everywhere between sub-poses (each clears what it drew).
+  int drawn_first = w, drawn_last = -1;
   for (const SubPose& sp : *row.tape_poses) {
-    std::fill(b->coverage.begin(), b->coverage.end(), 0.0f);
+    int pose_first = w, pose_last = -1;
     bool any = false;
     for (const LocalPiece& piece : sp.pieces) {
       if (piece.strip != i) continue;
@@ -316,6 +319,8 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
         }
         const int first = k * kCoarseStep, last = std::min(end * kCoarseStep, w - 1);
         const int count = last - first + 1;
+        pose_first = std::min(pose_first, first);
+        pose_last = std::max(pose_last, last);
         piece_distances(piece, xs + first, ys + first, count, b->distance.data());
         float* coverage = b->coverage.data() + first;
         const float* ramp = inverse_ramp + first;
@@ -330,7 +335,12 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
     }
     if (!any) continue;
     strip_in_row = true;
-    for (int u = 0; u < w; ++u) alpha[u] += b->coverage[u];
+    for (int u = pose_first; u <= pose_last; ++u) {
+      alpha[u] += b->coverage[u];
+      b->coverage[u] = 0.0f;
+    }
+    drawn_first = std::min(drawn_first, pose_first);
+    drawn_last = std::max(drawn_last, pose_last);
   }
   if (!strip_in_row) return;
   if (tape.wear > 0.0) wear_tape_in_row(v, i, *row.pose, &alpha);
@@ -341,7 +351,7 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
       static_cast<float>(tape.texture_contrast) /
       static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast : 1.0);
   const float inverse_samples = 1.0f / static_cast<int>(row.tape_poses->size());
-  for (int u = 0; u < w; ++u) {
+  for (int u = drawn_first; u <= drawn_last; ++u) {
     const float a = alpha[u] * inverse_samples;
     // The tape shares the floor's texture pattern, at its own (weaker) contrast.
     const float t = 1.0f + tape_contrast * row.texture_scale * texture[u];
@@ -372,14 +382,15 @@ void FrameRenderer::wear_tape_in_row(int v, int i, const Pose2& pose,
 // (one plane per channel, so that the loops vectorise; merged into BGR at the end).
 void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b) const {
   const int w = static_cast<int>(b.blue.size());
-  const float* gain = gain_.ptr<float>(v);
-  const float* glare = glare_.ptr<float>(v);
+  const float* __restrict gain = gain_.ptr<float>(v);
+  const float* __restrict glare = glare_.ptr<float>(v);
   const float* colour[3] = {b.blue.data(), b.green.data(), b.red.data()};
   for (int ch = 0; ch < 3; ++ch) {
-    const signed char* noise =
+    const signed char* __restrict noise =
         noise_bank_.ptr<signed char>(v + row.noise_dy) + row.noise_dx + ch * w;
-    unsigned char* out = workspace_.planes[ch].ptr<unsigned char>(v);
-    const float* c = colour[ch];
+    // __restrict: the 8-bit output may otherwise alias the inputs, which keeps the loop scalar.
+    unsigned char* __restrict out = workspace_.planes[ch].ptr<unsigned char>(v);
+    const float* __restrict c = colour[ch];
     for (int u = 0; u < w; ++u) {
       const float value = std::min(
           std::max(c[u] * gain[u] + glare[u] + row.noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
