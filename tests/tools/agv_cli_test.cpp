@@ -190,16 +190,30 @@ TEST_F(AgvCli, HelpTellsWhatItDoes) {
   EXPECT_NE(s.output.find("--set"), std::string::npos);
 }
 
+// DESIGN.md's keys, and what issue 19 added: the peak memory, the closed-loop step; --out
+// writes the table and the same JSON.
 TEST_F(AgvCli, BenchPrintsTheDesignKeys) {
-  const Result r = run("bench --frames 12 --json");
+  const Result r = run("bench --frames 12 --json --out " + path("bench"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
   for (const char* key :
        {"render_us_median", "perceive_us_median", "perceive_us_p99",
-        "baseline_canny_hough_us_median", "control_us_median", "closed_loop_fps"}) {
+        "baseline_canny_hough_us_median", "control_us_median", "closed_loop_fps", "peak_rss_mb",
+        "closed_loop_step_us_median"}) {
     EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_GT(j[key].get<double>(), 0.0) << key;
   }
+  for (const char* stage : {"perceive", "perceive_full_search", "baseline_canny_hough"})
+    for (const char* key : {"us_median", "us_p99", "found", "rms_e_d_m", "rms_e_theta_rad"})
+      EXPECT_TRUE(j[stage].contains(key)) << stage << "." << key;
+  EXPECT_EQ(j["output"], path("bench"));
+  std::ifstream table(dir_ / "bench" / "bench.txt");
+  std::string first_line;
+  std::getline(table, first_line);
+  EXPECT_EQ(first_line.rfind("agv bench: 12 consecutive frames", 0), 0u) << first_line;
+  std::ifstream saved(dir_ / "bench" / "bench.json");
+  ASSERT_TRUE(saved.good());
+  EXPECT_EQ(nlohmann::json::parse(saved)["frames"], 12);
 }
 
 }  // namespace
