@@ -80,6 +80,12 @@ MUTATIONS = [
      "    if (w.finished) continue;\n", "", ["pipeline_tests"]),
     ("output folder: a failed run's folder kept", "pipeline/evaluation/output_folder.cpp",
      "  fs::remove_all(temporary_, error);\n}", "}", ["pipeline_tests"]),
+    ("plant: sideways motion ignored while turning", "common/twist_motion.h",
+     "dx = (twist.vx_m_s * s + twist.vy_m_s * (c - 1.0)) / twist.wz_rad_s;",
+     "dx = (twist.vx_m_s * s) / twist.wz_rad_s;", ["pipeline_tests", "control_tests"]),
+    ("plant: actuator lag skipped within a period", "pipeline/sim/plant.cpp",
+     "const double mean = target + (state - target) * (1.0 - mean_gain);",
+     "const double mean = target + 0.0 * mean_gain * (state - target);", ["pipeline_tests"]),
 ]
 
 
