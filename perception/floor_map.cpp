@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
-#include <mutex>
 #include <string>
-#include <utility>
 #include <vector>
+
+#include "common/recent_cache.h"
 
 namespace agv::perception {
 
@@ -79,23 +78,9 @@ std::string camera_key(const CameraModel& camera) {
 }  // namespace
 
 std::shared_ptr<const FloorMap> FloorMap::shared(const CameraModel& camera) {
-  constexpr size_t kKept = 8;
-  static std::mutex mutex;
-  static std::deque<std::pair<std::string, std::shared_ptr<const FloorMap>>> kept;
-  const std::string key = camera_key(camera);
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    for (const auto& [k, map] : kept)
-      if (k == key) return map;
-  }
-  // Made outside the lock (two threads may both make the first one; the first kept wins).
-  auto made = std::make_shared<const FloorMap>(camera);
-  const std::lock_guard<std::mutex> lock(mutex);
-  for (const auto& [k, map] : kept)
-    if (k == key) return map;
-  kept.emplace_back(key, made);
-  if (kept.size() > kKept) kept.pop_front();
-  return made;
+  static RecentCache<std::string, std::shared_ptr<const FloorMap>> maps(8);
+  return maps.get(camera_key(camera),
+                  [&camera] { return std::make_shared<const FloorMap>(camera); });
 }
 
 std::optional<Eigen::Vector2d> FloorMap::at(double u_px, double v_px) const {

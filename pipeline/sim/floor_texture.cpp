@@ -1,11 +1,10 @@
 #include "pipeline/sim/floor_texture.h"
 
 #include <cmath>
-#include <deque>
-#include <mutex>
 #include <opencv2/core.hpp>
 #include <tuple>
-#include <utility>
+
+#include "common/recent_cache.h"
 
 namespace agv::pipeline {
 
@@ -50,23 +49,9 @@ FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t 
     : texel_m_(texel_m), inverse_texel_m_(static_cast<float>(1.0 / texel_m)) {
   // Made once per process for each (texel, feature size, seed) and shared read-only (every run
   // of a comparison suite has the same floor); the last 8 are kept.
-  using Key = std::tuple<double, double, std::uint64_t>;
-  static std::mutex mutex;
-  static std::deque<std::pair<Key, cv::Mat>> kept;
-  const Key key{texel_m, feature_size_m, seed};
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    for (const auto& [k, tile] : kept) {
-      if (k == key) {
-        texels_ = tile;
-        return;
-      }
-    }
-  }
-  texels_ = make_tile(texel_m, feature_size_m, seed);
-  const std::lock_guard<std::mutex> lock(mutex);
-  kept.emplace_back(key, texels_);
-  if (kept.size() > 8) kept.pop_front();
+  static RecentCache<std::tuple<double, double, std::uint64_t>, cv::Mat> tiles(8);
+  texels_ = tiles.get({texel_m, feature_size_m, seed},
+                      [&] { return make_tile(texel_m, feature_size_m, seed); });
 }
 
 }  // namespace agv::pipeline
