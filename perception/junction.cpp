@@ -183,7 +183,8 @@ std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, do
 }
 
 void FollowHistory::update(const std::optional<double>& branch_heading,
-                           const std::optional<CurveModel>& line) {
+                           const std::optional<CurveModel>& line, std::optional<double> width_m) {
+  width.update(line ? width_m : std::nullopt);
   if (branch_heading) {
     branch_heading_rad = branch_heading;
     frames_without_branches = 0;

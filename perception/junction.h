@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "perception/line_set.h"
+#include "perception/tape_width_memory.h"
 
 namespace agv::perception {
 
@@ -47,8 +48,10 @@ struct FollowHistory {
   std::optional<double> branch_heading_rad;
   int frames_without_branches = 0;  // frames since one showed a junction or several lines
   std::optional<CurveModel> followed;
-  // Record one frame's choice (followed: nullopt when no line was found).
-  void update(const std::optional<double>& branch_heading, const std::optional<CurveModel>& line);
+  TapeWidthMemory width;  // the width of the tape followed so far
+  // Record one frame's choice (line: nullopt when no line was found; width_m: its width).
+  void update(const std::optional<double>& branch_heading, const std::optional<CurveModel>& line,
+              std::optional<double> width_m = std::nullopt);
   static constexpr int kForgetAfterFrames = 5;  // the junction is behind: choose anew
 };
 

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 
 #include "perception/contrast_axis.h"
@@ -16,6 +17,23 @@ LineMeasurement not_found(double stamp_s, const std::string& reason, LineDetecti
   LineMeasurement m;
   m.stamp_s = stamp_s;
   return m;
+}
+
+// Drops the lines whose width is unlike the tape followed in the frames before (history's
+// width memory); returns the reason when none is left, else an empty string.
+std::string drop_lines_unlike_the_tape(std::vector<DetectedLine>* lines,
+                                       const FollowHistory* history) {
+  if (!history || lines->empty()) return "";
+  const std::optional<double> settled_m = history->width.settled_width_m();
+  if (!settled_m) return "";
+  const double first_width_m = lines->front().width_m;
+  std::erase_if(*lines,
+                [&](const DetectedLine& line) { return history->width.unlike(line.width_m); });
+  if (!lines->empty()) return "";
+  char why[120];
+  std::snprintf(why, sizeof(why), "tape width %.1f mm unlike the %.1f mm tape seen so far",
+                1e3 * first_width_m, 1e3 * *settled_m);
+  return why;
 }
 
 // Coefficients (c0, c1, c2) of the quadratic in l through (l_i, x_i), least squares; a line when
@@ -193,6 +211,8 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
   d.lines = extract_lines(d.chords, options_.lines, &rejections);
   if (d.lines.empty())
     return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
+  if (const std::string unlike = drop_lines_unlike_the_tape(&d.lines, history); !unlike.empty())
+    return not_found(stamp_s, unlike, &d);
   return measurement_of(d, frame, stamp_s, history);
 }
 
@@ -238,6 +258,8 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
   if (10 * line->clean_chords.size() < 7 * line->chords.size())
     return not_found(stamp_s, "another tape joins or leaves the tracked one", &d);
   d.lines.push_back(std::move(*line));
+  if (const std::string unlike = drop_lines_unlike_the_tape(&d.lines, history); !unlike.empty())
+    return not_found(stamp_s, unlike, &d);
   return measurement_of(d, frame, stamp_s, history);
 }
 

@@ -40,9 +40,9 @@ LineMeasurement TrackingLineEstimator::measure(const cv::Mat& frame, double stam
     ++counts_.searched;
     frames_since_search_ = 0;
   }
-  history_.update(
-      detection.branch_heading_rad,
-      m.line_found ? std::optional<CurveModel>(detection.followed_model) : std::nullopt);
+  history_.update(detection.branch_heading_rad,
+                  m.line_found ? std::optional<CurveModel>(detection.followed_model) : std::nullopt,
+                  m.line_found ? std::optional<double>(m.tape_width_m) : std::nullopt);
   if (details) *details = detection;
   if (m.line_found) {
     previous_ = std::move(detection);

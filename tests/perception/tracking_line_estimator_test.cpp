@@ -156,5 +156,47 @@ TEST(TrackingLineEstimator, ACrossingTapeDoesNotCaptureTheTrackedLine) {
   EXPECT_GE(found, 20);  // the crossing may hide the line in a few frames, not in most
 }
 
+// The tape followed so far decides what a line is: with no width configured, after frames of 50
+// mm tape a frame showing only a 20 mm strip (a floorboard seam, another tape) has no line, and
+// says why; a fresh estimator takes the same frame's strip (so the memory made the difference);
+// after TapeWidthMemory::kForgetAfterFrames frames without a line the strip is taken up.
+TEST(TrackingLineEstimator, AWidthUnlikeTheTapeSeenSoFarIsNoLine) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  pipeline::Scene scene = testing::straight_tape_scene();
+  scene.tapes[0].path = control::Path::starting_at({-2.0, 0.0, 0.0}).add_line(5.0);
+  scene.tapes[0].width_m = 0.050;
+  pipeline::TapeStrip strip = scene.tapes[0];
+  strip.path = control::Path::starting_at({3.5, 0.03, 0.0}).add_line(5.0);
+  strip.width_m = 0.020;
+  scene.tapes.push_back(strip);
+  const pipeline::FrameRenderer renderer(camera, scene);
+  LineEstimator::Options any_width;
+  any_width.tape.width_m = 0.0;
+  TrackingLineEstimator tracking(camera, any_width);
+  for (int k = 0; k < 10; ++k) {
+    const LineMeasurement m =
+        tracking.measure(renderer.render({1.0 + 0.03 * k, 0.0, 0.0}, {}, k), 0);
+    ASSERT_TRUE(m.line_found) << "frame " << k;
+    ASSERT_NEAR(m.tape_width_m, 0.050, 0.0025);
+  }
+  const cv::Mat seam_only = renderer.render({5.0, 0.0, 0.0}, {}, 10);
+  LineDetection details;
+  const LineMeasurement seam = tracking.measure(seam_only, 0, &details);
+  EXPECT_FALSE(seam.line_found);
+  EXPECT_NE(details.rejected_because.find("unlike the 50."), std::string::npos)
+      << details.rejected_because;
+  const LineMeasurement fresh = LineEstimator(camera, any_width).estimate(seam_only, 0);
+  ASSERT_TRUE(fresh.line_found);
+  EXPECT_NEAR(fresh.tape_width_m, 0.020, 0.001);
+  EXPECT_NEAR(fresh.e_d_m, -0.03, 0.0005);  // the strip lies 30 mm to the vehicle's left
+  int frames_until_taken = 1;
+  for (; frames_until_taken < 40; ++frames_until_taken) {
+    if (tracking.measure(renderer.render({5.0 + 0.01 * frames_until_taken, 0.0, 0.0}, {}, 11), 0)
+            .line_found)
+      break;
+  }
+  EXPECT_EQ(frames_until_taken, TapeWidthMemory::kForgetAfterFrames);
+}
+
 }  // namespace
 }  // namespace agv::perception

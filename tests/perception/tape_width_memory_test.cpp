@@ -1,0 +1,63 @@
+#include "perception/tape_width_memory.h"
+
+#include <gtest/gtest.h>
+
+namespace agv::perception {
+namespace {
+
+// Widths by hand: the memory settles on the median once kSettleFrames lines agree.
+TEST(TapeWidthMemory, SettlesOnTheMedianOfAgreeingLines) {
+  TapeWidthMemory memory;
+  const double widths_m[] = {0.050, 0.051, 0.049, 0.0505, 0.0495};
+  for (int i = 0; i < 4; ++i) {
+    memory.update(widths_m[i]);
+    EXPECT_FALSE(memory.settled_width_m().has_value()) << "after " << i + 1 << " lines";
+    EXPECT_FALSE(memory.unlike(0.020)) << "nothing is unlike an unsettled width";
+  }
+  memory.update(widths_m[4]);
+  ASSERT_TRUE(memory.settled_width_m().has_value());
+  EXPECT_DOUBLE_EQ(*memory.settled_width_m(), 0.050);
+}
+
+// 30 % of 50 mm is 15 mm: 34.5 mm is unlike, 35.5 mm not; wider up to two tapes side by side
+// plus the same 15 mm (115 mm) is not (boundaries missed by 0.5 mm, far above rounding); on 6 mm
+// tape the 3 mm floor holds; a width of 0 (unknown) is never unlike.
+TEST(TapeWidthMemory, UnlikeWhenNarrowerByThirtyPercentOrWiderThanTwoTapes) {
+  TapeWidthMemory wide;
+  for (int i = 0; i < 5; ++i) wide.update(0.050);
+  EXPECT_TRUE(wide.unlike(0.0345));
+  EXPECT_FALSE(wide.unlike(0.0355));
+  EXPECT_FALSE(wide.unlike(0.0645));
+  EXPECT_FALSE(wide.unlike(0.1145));
+  EXPECT_TRUE(wide.unlike(0.1155));
+  EXPECT_FALSE(wide.unlike(0.0));
+  TapeWidthMemory narrow;
+  for (int i = 0; i < 5; ++i) narrow.update(0.006);
+  EXPECT_FALSE(narrow.unlike(0.0035));  // 2.5 mm narrower: within the 3 mm floor (30 %: 1.8)
+  EXPECT_TRUE(narrow.unlike(0.0025));
+  EXPECT_FALSE(narrow.unlike(0.0145));  // two 6 mm tapes and 2.5 mm
+  EXPECT_TRUE(narrow.unlike(0.0155));
+}
+
+// Lines that do not agree (a tape seen partly, pieces of different tapes) settle nothing.
+TEST(TapeWidthMemory, DisagreeingLinesDoNotSettle) {
+  TapeWidthMemory memory;
+  for (double w : {0.020, 0.050, 0.020, 0.050, 0.020, 0.050}) memory.update(w);
+  EXPECT_FALSE(memory.settled_width_m().has_value());
+  EXPECT_FALSE(memory.unlike(0.100));
+}
+
+// A few frames without a line keep the width (a gap in the tape); kForgetAfterFrames in a row
+// forget it, so that tape of a new width is taken up.
+TEST(TapeWidthMemory, ForgottenAfterALongStretchWithoutLine) {
+  TapeWidthMemory memory;
+  for (int i = 0; i < 5; ++i) memory.update(0.050);
+  for (int i = 0; i + 1 < TapeWidthMemory::kForgetAfterFrames; ++i) memory.update(std::nullopt);
+  EXPECT_TRUE(memory.unlike(0.020));
+  memory.update(std::nullopt);
+  EXPECT_FALSE(memory.settled_width_m().has_value());
+  EXPECT_FALSE(memory.unlike(0.020));
+}
+
+}  // namespace
+}  // namespace agv::perception
