@@ -48,6 +48,7 @@ void PathMemory::reset() {
   points_.clear();
   tape_width_m_ = 0.0;
   correction_ = Pose2{};
+  misalignment_cov_.setZero();
   last_odometry_.reset();
   tape_heading_rad_.reset();
 }
@@ -65,6 +66,28 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, doubl
   // from the line through the nearest evidence points (the evidence itself, not a curve fitted
   // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
   // shift y). The shift along a straight tape is not observable: a small ridge keeps it at 0.
+  // The misalignment's uncertainty grows by what the odometry can have got wrong since the last
+  // frame: a constant by kind of odometry and a part per metre driven (from 0 when nothing is
+  // remembered: this frame's evidence is placed where the vehicle is).
+  if (points_.empty()) misalignment_cov_.setZero();
+  const PathMemoryOptions::Prior& prior = kind == OdometryKind::wheels   ? options_.wheels_prior
+                                          : kind == OdometryKind::frames ? options_.frames_prior
+                                                                         : options_.guess_prior;
+  const double sigma_t = prior.shift_m + options_.prior_shift_per_m * travelled_m;
+  const double sigma_r = prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m;
+  misalignment_cov_.diagonal() +=
+      Eigen::Vector3d(sigma_r * sigma_r, sigma_t * sigma_t, sigma_t * sigma_t);
+  // Along a straight tape the shift along it is never seen: the uncertainty stops at what a
+  // registration may correct at all.
+  const Eigen::Vector3d cap(options_.max_correction_rad * options_.max_correction_rad,
+                            options_.max_correction_m * options_.max_correction_m,
+                            options_.max_correction_m * options_.max_correction_m);
+  for (int i = 0; i < 3; ++i) {
+    if (misalignment_cov_(i, i) <= cap[i]) continue;
+    const double scale = std::sqrt(cap[i] / misalignment_cov_(i, i));
+    misalignment_cov_.row(i) *= scale;
+    misalignment_cov_.col(i) *= scale;
+  }
   if (evidence.size() < 3) return;
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
@@ -105,23 +128,19 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, doubl
     ++count;
   }
   if (count < options_.min_overlap_points) return;
-  // Most likely correction given the points (each good to point_sigma_m) and what the odometry
-  // can have got wrong over the distance driven since the last frame: along a straight tape the
-  // points say nothing of the shift along it, and the prior keeps it where the odometry put it.
-  const PathMemoryOptions::Prior& prior = kind == OdometryKind::wheels   ? options_.wheels_prior
-                                          : kind == OdometryKind::frames ? options_.frames_prior
-                                                                         : options_.guess_prior;
-  const double sigma_t = prior.shift_m + options_.prior_shift_per_m * travelled_m;
-  const double sigma_r = prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m;
+  // The most likely correction given the points (each good to point_sigma_m) and how far the
+  // memory may be out of line: along a straight tape the points say nothing of the shift along
+  // it, and the prior keeps it where the odometry put it.
   const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
   jtj *= point_weight;
   jtd *= point_weight;
-  jtj.diagonal() += Eigen::Vector3d(1.0 / (sigma_r * sigma_r), 1.0 / (sigma_t * sigma_t),
-                                    1.0 / (sigma_t * sigma_t));
+  jtj += misalignment_cov_.inverse();
   const Eigen::Vector3d delta = jtj.ldlt().solve(-jtd);
+  misalignment_cov_ = jtj.inverse();
   if (std::abs(delta[0]) > options_.max_correction_rad ||
       delta.tail<2>().norm() > options_.max_correction_m) {
     points_.clear();  // the remembered tape is not this tape (or the odometry jumped)
+    misalignment_cov_.setZero();
     in_vehicle->clear();
     return;
   }

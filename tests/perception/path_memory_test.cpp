@@ -106,17 +106,31 @@ TEST(PathMemory, ErrorsAtTheVehicleFromTheRememberedTape) {
   EXPECT_LT(rad_to_deg(r.max_e_theta_error_rad), 0.1);
 }
 
-// Poor odometry (3 % scale error, 0.6 deg of heading drift per metre): between seeing the tape
-// and driving over it (0.3 m) the odometry alone would be 0.2 deg and 0.9 mm along the tape
-// off there; registering each frame's evidence to the remembered tape removes the drift (0.25 mm,
-// 0.2 deg). Not better: while only the arc is in view, a turn about the arc's centre moves the
-// arc onto itself, so the heading drift of those frames is held only by the odometry's prior
-// (with 1.7 deg/m of drift the vehicle is 0.34 deg off as it reaches the joint).
+// Poor odometry (3 % scale error, 0.6 deg of heading drift per metre: six times the default
+// scenario's): without registration the vehicle is 1.6 mm / 0.48 deg off the tape by the time it
+// drives over it; registering each frame's evidence to the remembered tape removes most of it.
+// Not all: each remembered point counts as known to 1 mm (real and rendered evidence is biased
+// alike over neighbouring points - at joints, on wide tape - and trusting 0.1 mm built up 0.5 deg
+// over 20 frames there), so a drift this large is removed over several frames, not in one; and
+// while only the arc is in view, a turn about the arc's centre moves the arc onto itself.
+// Measured 0.33 mm / 0.19 deg; bound 0.5 mm / 0.3 deg, a third of what no registration gives.
 TEST(PathMemory, RegistrationRemovesOdometryDrift) {
   const Drive r = drive(0.03, 0.01);
   EXPECT_GE(r.from_memory, 35);
-  EXPECT_LT(r.max_e_d_error_m, 2.5e-4);
-  EXPECT_LT(rad_to_deg(r.max_e_theta_error_rad), 0.2);
+  EXPECT_LT(r.max_e_d_error_m, 5e-4);
+  EXPECT_LT(rad_to_deg(r.max_e_theta_error_rad), 0.3);
+}
+
+// The default scenario's odometry (0.5 % scale error, 0.2 deg/m of heading drift): a drift the
+// odometry keeps making is removed in full because the registration remembers how far the memory
+// may still be out of line (a Kalman filter on the misalignment). Starting each frame from the
+// one frame's odometry error instead held a part of the drift back every frame: 0.111 mm
+// measured, against 0.087 mm with the filter (exact, deterministic evidence: no noise margin
+// needed beyond the fit's own 0.01 mm).
+TEST(PathMemory, ADriftTheOdometryKeepsMakingIsRemovedInFull) {
+  const Drive r = drive(0.005, 0.0035);
+  EXPECT_GE(r.from_memory, 35);
+  EXPECT_LT(r.max_e_d_error_m, 1e-4);
 }
 
 // No odometry: nothing can be remembered; every frame is the line in view, flagged.
