@@ -1,5 +1,6 @@
 #include "tools/evaluate_command.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iomanip>
@@ -10,6 +11,7 @@
 #include "common/input_error.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "pipeline/evaluation/perception_benchmark.h"
+#include "pipeline/evaluation/sequence_benchmark.h"
 #include "tools/build_info.h"
 #include "tools/peak_memory.h"
 #include "tools/progress_bar.h"
@@ -26,7 +28,11 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       "vehicle's origin (e_d, e_theta as DESIGN.md defines them) and at the nearest evidence "
       "(before the line is carried back to the origin), the lines reported where there is no "
       "tape; and the detection rate, errors at the origin and lines without tape of the usual "
-      "blur + Canny + HoughLinesP detector on the same frames.");
+      "blur + Canny + HoughLinesP detector on the same frames. Then sequences: consecutive "
+      "frames along random paths (lines joined to arcs, S-bends, corners of R 0.1-0.3 m, Y forks "
+      "with the way chosen), tape 10-100 mm wide with no width configured, perception as the "
+      "loop runs it (tracking, path memory on wheel odometry): found, RMS at the origin after "
+      "the memory's warm-up, by piece, direction flips, lines without tape.");
   sub->add_option("--conditions", args.conditions, "Random draws of camera, floor, tape and light")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
@@ -36,16 +42,81 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
   sub->add_option("--empty-conditions", args.empty_conditions, "Draws without tape")
       ->check(CLI::Range(0, 10000))
       ->capture_default_str();
+  sub->add_option("--sequences", args.sequences, "Random paths driven frame by frame (0: none)")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  sub->add_option("--empty-sequences", args.empty_sequences,
+                  "Drives of 1 m over floors without tape")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  sub->add_option("--sequence-length-m", args.sequence_length_m, "Path driven per sequence")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
+  sub->add_option("--sequence-pieces", args.sequence_pieces,
+                  "What the sequences' paths are laid from, comma-separated")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"line", "arc", "s-bend", "corner", "fork"}))
+      ->capture_default_str();
   sub->add_option("--seed", args.seed, "Seed (same seed, same frames)")->capture_default_str();
-  sub->add_option("--out", args.out_dir, "Also write frames.csv and summary.json to this folder");
+  sub->add_option("--out", args.out_dir,
+                  "Also write frames.csv, sequences.csv and summary.json to this folder");
   sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
   sub->add_option(
       "--save-failures", args.save_failures,
       "Write annotated frames that were missed, off by more than 1 mm / 0.5 deg, or gave a line "
-      "without tape, to this folder (at most 60)");
+      "without tape, to this folder (at most 60; the sequences' in sequences/ there, at most 5 a "
+      "sequence)");
   sub->add_flag("--json", args.json, "Print the summary as JSON");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
+
+namespace {
+
+// One row per frame of the sequences; the draw of each sequence in its last column.
+void write_sequences_csv(const pipeline::SequenceBenchmarkResult& sequences,
+                         const std::string& file) {
+  std::ofstream csv(file);
+  csv << "sequence,has_tape,piece,travelled_m,line_found,extrapolated,remembered_only,"
+         "error_e_d_m,error_e_theta_rad,measured_width_m,true_width_m,perceive_ms,"
+         "no_line_reason,sequence_draw\n"
+      << std::setprecision(9);
+  for (const pipeline::SequenceFrame& f : sequences.frames) {
+    std::string reason = f.no_line_reason;
+    std::replace(reason.begin(), reason.end(), ',', ';');
+    csv << f.sequence << ',' << f.has_tape << ',' << f.piece << ',' << f.travelled_m << ','
+        << f.line_found << ',' << f.extrapolated << ',' << f.remembered_only << ',' << f.error_e_d_m
+        << ',' << f.error_e_theta_rad << ',' << f.measured_width_m << ',' << f.true_width_m << ','
+        << f.perceive_ms << ',' << reason << ','
+        << sequences.sequence_texts[static_cast<std::size_t>(f.sequence)] << '\n';
+  }
+  if (!csv) throw InputError(file + ": cannot write the sequences");
+}
+
+void print_sequences(const nlohmann::json& s) {
+  const nlohmann::json& a = s["after_warm_up"];
+  std::printf(
+      "sequences %d (%d frames, tape 10-100 mm, width not configured): found %.2f %% | after "
+      "%.1f m: RMS e_d %.3f mm, e_theta %.3f deg (max %.3f mm, %.3f deg; %d frames carried back "
+      "from the view) | direction flips %d | without tape: %d lines in %d frames | %.2f ms per "
+      "frame (p99 %.2f)\n",
+      s["sequences"].get<int>(), s["frames_with_tape"].get<int>(),
+      100.0 * s["found_fraction"].get<double>(), s["warm_up_m"].get<double>(),
+      1e3 * a["rms_e_d_m"].get<double>(), rad_to_deg(a["rms_e_theta_rad"].get<double>()),
+      1e3 * a["max_abs_e_d_m"].get<double>(), rad_to_deg(a["max_abs_e_theta_rad"].get<double>()),
+      a["frames_extrapolated"].get<int>(), s["direction_flips"].get<int>(),
+      s["lines_reported_without_tape"].get<int>(), s["frames_without_tape"].get<int>(),
+      s["perceive_ms_median"].get<double>(), s["perceive_ms_p99"].get<double>());
+  std::printf("sequences by piece (RMS / max):");
+  for (const auto& [piece, e] : s["by_piece"].items()) {
+    std::printf(" | %s %d: %.3f / %.3f mm, %.3f / %.3f deg", piece.c_str(), e["frames"].get<int>(),
+                1e3 * e["rms_e_d_m"].get<double>(), 1e3 * e["max_abs_e_d_m"].get<double>(),
+                rad_to_deg(e["rms_e_theta_rad"].get<double>()),
+                rad_to_deg(e["max_abs_e_theta_rad"].get<double>()));
+  }
+  std::printf("\n");
+}
+
+}  // namespace
 
 int run_evaluate(const EvaluateArgs& args) {
   pipeline::PerceptionBenchmarkOptions options;
@@ -62,7 +133,24 @@ int run_evaluate(const EvaluateArgs& args) {
     ProgressBar bar("evaluating perception", !args.quiet);
     result = pipeline::run_perception_benchmark(options, [&](double f) { bar.update(f); });
   }
+  pipeline::SequenceBenchmarkResult sequences;
+  if (args.sequences + args.empty_sequences > 0) {
+    pipeline::SequenceBenchmarkOptions sequence_options;
+    sequence_options.sequences = args.sequences;
+    sequence_options.empty_sequences = args.empty_sequences;
+    sequence_options.path_length_m = args.sequence_length_m;
+    sequence_options.seed = args.seed;
+    sequence_options.pieces.clear();
+    for (const std::string& word : args.sequence_pieces)
+      sequence_options.pieces.push_back(pipeline::parse_path_piece(word));
+    if (!args.save_failures.empty())
+      sequence_options.save_failures_dir = args.save_failures + "/sequences";
+    ProgressBar bar("driving sequences", !args.quiet);
+    sequences =
+        pipeline::run_sequence_benchmark(sequence_options, [&](double f) { bar.update(f); });
+  }
   nlohmann::json j = result.summary;
+  if (!sequences.frames.empty()) j["sequences"] = sequences.summary;
   j["agv"] = build_json();
   j["peak_rss_mb"] = peak_rss_mb();  // so far: the run's peak
   if (folder) {
@@ -80,6 +168,7 @@ int run_evaluate(const EvaluateArgs& args) {
           << b.baseline_error_e_theta_rad << ',' << b.baseline_ms << ',' << b.conditions_text
           << '\n';
     }
+    if (!sequences.frames.empty()) write_sequences_csv(sequences, folder->file("sequences.csv"));
     std::ofstream(folder->file("summary.json")) << j.dump(2) << '\n';
     if (!csv) throw InputError(folder->target().string() + ": cannot write the results");
     folder->commit();
@@ -118,6 +207,7 @@ int run_evaluate(const EvaluateArgs& args) {
       rad_to_deg(base["rms_e_theta_rad"].get<double>()), 1e3 * base["p95_abs_e_d_m"].get<double>(),
       rad_to_deg(base["p95_abs_e_theta_rad"].get<double>()),
       base["lines_reported_without_tape"].get<int>(), base["ms_median"].get<double>());
+  if (j.contains("sequences")) print_sequences(j["sequences"]);
   return 0;
 }
 

@@ -14,6 +14,7 @@
 #include "perception/hough_baseline.h"
 #include "perception/line_estimator.h"
 #include "pipeline/evaluation/frame_annotation.h"
+#include "pipeline/evaluation/random_conditions.h"
 #include "pipeline/sim/frame_renderer.h"
 
 namespace agv::pipeline {
@@ -30,59 +31,18 @@ struct Draw {
   std::string text;
 };
 
-cv::Vec3d random_tape_colour(cv::RNG& rng, const cv::Vec3d& floor) {
-  const cv::Vec3d palette[] = {{170, 90, 25}, {40, 200, 230},  {40, 40, 200},   {60, 170, 60},
-                               {30, 30, 32},  {235, 235, 235}, {200, 120, 200}, {20, 140, 250}};
-  for (int attempt = 0; attempt < 20; ++attempt) {
-    cv::Vec3d c = palette[rng.uniform(0, 8)] * rng.uniform(0.8, 1.1);
-    for (int i = 0; i < 3; ++i) c[i] = std::clamp(c[i], 0.0, 255.0);
-    if (cv::norm(c - floor) >= 70.0) return c;  // tape must differ visibly from its floor
-  }
-  return floor[0] > 128 ? cv::Vec3d(30, 30, 32) : cv::Vec3d(235, 235, 235);
-}
-
 Draw draw_condition(cv::RNG& rng, bool with_tape, std::uint64_t seed) {
-  // Camera: height, tilt in a random direction, yaw of the image, offset, mild distortion.
-  perception::CameraIntrinsics in;
-  in.distortion = {rng.uniform(-0.15, 0.0), rng.uniform(0.0, 0.05), 0.0, 0.0, 0.0};
-  const double height = rng.uniform(0.12, 0.25);
-  const double tilt = deg_to_rad(rng.uniform(0.0, 10.0)), tilt_direction = rng.uniform(-kPi, kPi);
-  perception::MountPose mount;
-  mount.xyz_m = {rng.uniform(0.25, 0.35), rng.uniform(-0.03, 0.03), height};
-  mount.rpy_rad = {kPi + tilt * std::sin(tilt_direction), tilt * std::cos(tilt_direction),
-                   -kPi / 2 + deg_to_rad(rng.uniform(-10.0, 10.0))};
-  Draw d{perception::CameraModel(in, mount), {}, {}, false, 0.0, {}};
-
+  const RandomCamera camera = draw_camera(rng);
+  Draw d{camera.camera, {}, {}, false, 0.0, {}};
+  const double height = camera.height_m, tilt = camera.tilt_rad;
   Scene& scene = d.scene;
   scene.seed = seed;
-  const bool light_floor = rng.uniform(0.0, 1.0) < 0.5;
-  const double grey = light_floor ? rng.uniform(150.0, 215.0) : rng.uniform(60.0, 140.0);
-  scene.floor.color_bgr = cv::Vec3d(grey * rng.uniform(0.9, 1.1), grey * rng.uniform(0.9, 1.1),
-                                    grey * rng.uniform(0.9, 1.1));
-  scene.floor.texture_contrast = rng.uniform(0.02, 0.15);
-  scene.floor.texture_feature_m = rng.uniform(0.001, 0.004);
-  ImageEffects& fx = scene.effects;
-  fx.noise_sigma = rng.uniform(0.0, 6.0);
-  fx.exposure_s = rng.uniform(0.0, 0.008);
-  fx.vignetting = rng.uniform(0.0, 0.35);
-  fx.illumination_gradient = rng.uniform(0.0, 0.4);
-  fx.illumination_direction_rad = rng.uniform(-kPi, kPi);
-  fx.brightness = rng.uniform(0.6, 1.3);
-  if (rng.uniform(0.0, 1.0) < 0.3) {
-    fx.shadow_darkness = rng.uniform(0.2, 0.5);
-    fx.shadow_direction_rad = rng.uniform(-kPi, kPi);
-    fx.shadow_offset = rng.uniform(-0.3, 0.6);
-    fx.shadow_softness = rng.uniform(0.01, 0.1);
-  }
-  if (rng.uniform(0.0, 1.0) < 0.2) {
-    fx.specular_strength = rng.uniform(30.0, 90.0);
-    fx.specular_x = rng.uniform(0.1, 0.9);
-    fx.specular_y = rng.uniform(0.1, 0.9);
-  }
+  const bool light_floor = draw_floor_and_light(rng, &scene);
+  const ImageEffects& fx = scene.effects;
 
   TapeStrip tape;
   tape.width_m = rng.uniform(0.010, 0.050);
-  tape.color_bgr = random_tape_colour(rng, scene.floor.color_bgr);
+  tape.color_bgr = draw_tape_colour(rng, scene.floor.color_bgr);
   tape.wear = rng.uniform(0.0, 1.0) < 0.2 ? rng.uniform(0.0, 0.1) : 0.0;
   d.curved = rng.uniform(0.0, 1.0) < 0.4;
   if (d.curved) {

@@ -1,0 +1,89 @@
+#include "pipeline/evaluation/sequence_benchmark.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "common/angles.h"
+
+namespace agv::pipeline {
+namespace {
+
+// Lines joined to arcs and S-bends, tape 10-100 mm wide with no width configured, perception as
+// the loop runs it: once the vehicle drives over tape it saw, the errors at its origin come from
+// the remembered tape and meet issue 4's bar for single clean frames (RMS 0.2 mm / 0.1 deg; the
+// sequences' own goal, 0.1 mm / 0.05 deg, is not met on every draw: see the README). Seed 1's
+// draws (printed on failure) measured 0.10 mm / 0.06 deg. Every frame has its line, none is
+// followed the wrong way round, and the drive without tape gives no line.
+TEST(SequenceBenchmark, JoinedArcsAndSBendsMeetTheSingleFrameBarAfterTheWarmUp) {
+  SequenceBenchmarkOptions options;
+  options.sequences = 3;
+  options.empty_sequences = 1;
+  options.path_length_m = 1.5;
+  options.pieces = {PathPiece::kLine, PathPiece::kArc, PathPiece::kSBend};
+  options.seed = 1;
+  const SequenceBenchmarkResult result = run_sequence_benchmark(options);
+  const nlohmann::json& j = result.summary;
+  std::string draws;
+  for (const std::string& text : result.sequence_texts) draws += "\n  " + text;
+  SCOPED_TRACE("draws:" + draws + "\nsummary: " + j.dump());
+  ASSERT_EQ(result.frames.size(), 3u * 150 + 100);
+  EXPECT_GE(j["found_fraction"].get<double>(), 0.99);
+  const nlohmann::json& after = j["after_warm_up"];
+  EXPECT_GT(after["frames"].get<int>(), 3 * 90);  // 1.0 of the 1.5 m, less a lost frame or two
+  EXPECT_LE(after["rms_e_d_m"].get<double>(), 0.0002);
+  EXPECT_LE(rad_to_deg(after["rms_e_theta_rad"].get<double>()), 0.1);
+  EXPECT_EQ(j["direction_flips"].get<int>(), 0);
+  EXPECT_EQ(j["frames_without_tape"].get<int>(), 100);
+  EXPECT_EQ(j["lines_reported_without_tape"].get<int>(), 0);
+  // The figures are those of the frames: the RMS recomputed here from the per-frame errors.
+  double sum = 0.0;
+  int counted = 0;
+  for (const SequenceFrame& f : result.frames) {
+    if (!f.has_tape || !f.line_found || f.travelled_m < options.warm_up_m) continue;
+    sum += f.error_e_d_m * f.error_e_d_m;
+    ++counted;
+  }
+  EXPECT_EQ(counted, after["frames"].get<int>());
+  EXPECT_NEAR(std::sqrt(sum / counted), after["rms_e_d_m"].get<double>(), 1e-12);
+}
+
+// The paths are laid from the pieces named, after the lead-in line (a corner is followed by
+// 0.3 m of line); a fork comes at most once a sequence; the same seed gives the same frames.
+TEST(SequenceBenchmark, PathsAreLaidFromTheNamedPiecesAndTheSameSeedRepeats) {
+  SequenceBenchmarkOptions options;
+  options.sequences = 1;
+  options.empty_sequences = 0;
+  options.path_length_m = 1.0;
+  options.pieces = {PathPiece::kCorner, PathPiece::kFork};
+  const SequenceBenchmarkResult first = run_sequence_benchmark(options);
+  std::set<std::string> pieces;
+  for (const SequenceFrame& f : first.frames) pieces.insert(f.piece);
+  for (const std::string& piece : pieces)
+    EXPECT_TRUE(piece == "line" || piece == "corner" || piece == "fork") << piece;
+  EXPECT_GE(pieces.size(), 2u);
+  const std::string& text = first.sequence_texts.front();
+  EXPECT_EQ(text.find("fork"), text.rfind("fork")) << text;
+  EXPECT_EQ(text.find(" arc "), std::string::npos) << text;
+  const SequenceBenchmarkResult again = run_sequence_benchmark(options);
+  ASSERT_EQ(again.frames.size(), first.frames.size());
+  for (size_t i = 0; i < first.frames.size(); ++i) {
+    EXPECT_EQ(again.frames[i].line_found, first.frames[i].line_found) << i;
+    EXPECT_EQ(again.frames[i].error_e_d_m, first.frames[i].error_e_d_m) << i;
+  }
+}
+
+TEST(SequenceBenchmark, PiecesAreNamedOrRefused) {
+  for (PathPiece piece :
+       {PathPiece::kLine, PathPiece::kArc, PathPiece::kSBend, PathPiece::kCorner, PathPiece::kFork})
+    EXPECT_EQ(parse_path_piece(path_piece_name(piece)), piece);
+  EXPECT_THROW(parse_path_piece("zigzag"), std::invalid_argument);
+  SequenceBenchmarkOptions none;
+  none.pieces.clear();
+  EXPECT_THROW(run_sequence_benchmark(none), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace agv::pipeline
