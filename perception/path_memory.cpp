@@ -153,17 +153,20 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
   // A frame along the tape near the origin: the remembered tape's direction under the vehicle
   // when known (the line in view may be a corner's outgoing leg the vehicle has not reached),
-  // else the line in view's heading there; refined once by the fit's own slope so that the
-  // slopes the fit sees stay small.
+  // else the line in view's heading there; refined by the fit's own slope (up to twice) so that
+  // the slopes the fit sees stay small. Only points near the origin across the tape too: with a
+  // frame still turned (a corner's outgoing leg in view), the window along it would reach the
+  // other leg.
   double frame_rad = tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad)
                                        : -in_view.e_theta_rad;
   std::optional<JoinedArcs> fit;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0;; ++pass) {
     std::vector<Eigen::Vector2d> local;
     std::vector<double> along;
     for (const Eigen::Vector2d& p : in_vehicle) {
       const Eigen::Vector2d q = rotated(p, -frame_rad);
-      if (std::abs(q.x()) > options_.window_m) continue;
+      if (std::abs(q.x()) > options_.window_m || std::abs(q.y()) > options_.window_across_m)
+        continue;
       local.push_back(q);
       along.push_back(q.x());
     }
@@ -178,7 +181,8 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     if (lo > -options_.min_cover_m || hi < options_.min_cover_m) return std::nullopt;
     fit = fit_joined_arcs(local);
     if (!fit) return std::nullopt;
-    if (std::abs(fit->slope) < 0.02) break;
+    // The fit is in this frame: turn it only for another pass (the model below adds the slope).
+    if (std::abs(fit->slope) < 0.02 || pass == 2) break;
     frame_rad += std::atan(fit->slope);
   }
   const double slope_angle = std::atan(fit->slope);
@@ -259,6 +263,11 @@ std::vector<bool> PathMemory::on_other_lines(const LineDetection& detection,
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector2d& p = points[i];
     if (std::abs(curves[detection.followed].signed_distance(p)) < 0.5 * followed.width_m) continue;
+    // Nearer the vehicle than the junction: the way it came (a corner's incoming leg, a fork's
+    // stem), not a way it leaves by.
+    if (detection.junction &&
+        p.norm() < detection.junction->point_m.norm() - std::max(followed.width_m, 0.01))
+      continue;
     for (size_t other = 0; other < detection.lines.size() && !on_other[i]; ++other) {
       if (static_cast<int>(other) == detection.followed) continue;
       const DetectedLine& line = detection.lines[other];

@@ -16,10 +16,11 @@ namespace agv::perception {
 enum class OdometryKind { wheels, frames, guess };
 
 struct PathMemoryOptions {
-  double keep_behind_m = 0.15;  // tape remembered behind the vehicle origin
-  int keep_frames = 40;         // evidence of at most this many frames is kept
-  double window_m = 0.05;       // the tape this far either side of the origin gives the errors
-  double min_cover_m = 0.025;   // ... and must reach at least this far on both sides
+  double keep_behind_m = 0.15;   // tape remembered behind the vehicle origin
+  int keep_frames = 40;          // evidence of at most this many frames is kept
+  double window_m = 0.05;        // the tape this far either side of the origin gives the errors
+  double min_cover_m = 0.025;    // ... and must reach at least this far on both sides
+  double window_across_m = 0.1;  // ... and lie no further than this across it
   int min_points = 12;
   int side_points = 5;                  // points that must lie beyond min_cover_m on each side
   double chord_width_tolerance = 0.06;  // evidence: chords this near the tape's median width
@@ -86,7 +87,8 @@ class PathMemory {
   };
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
   // For each point (vehicle frame): whether it lies on a line in view other than the followed
-  // one, and not on that: tape remembered there is the way not taken at a fork (forgotten).
+  // one, and not on that, nor nearer the vehicle than their junction: tape remembered there is
+  // the way not taken at a fork (forgotten); the way the vehicle came is kept.
   static std::vector<bool> on_other_lines(const LineDetection& detection,
                                           const std::vector<Eigen::Vector2d>& points);
   void register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,

@@ -75,6 +75,38 @@ TEST_F(AgvCli, JsonSummaryOnStdout) {
   EXPECT_EQ(j["agv"]["date"].get<std::string>().size(), 24u) << j["agv"]["date"];
 }
 
+// evaluate's sequences as a user runs them: a short drive of the pieces named, its line on
+// stdout, sequences.csv with one row per frame and the columns the header names, and the figures
+// in summary.json; a piece not known is refused by name.
+TEST_F(AgvCli, EvaluateDrivesSequencesOfTheNamedPieces) {
+  const Result r = run(
+      "evaluate --quiet --conditions 1 --frames-per-condition 1 --empty-conditions 0 --sequences 1 "
+      "--empty-sequences 1 --sequence-length-m 1 --sequence-pieces line,arc --out " +
+      path("eval"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("sequences 1 (100 frames"), std::string::npos) << r.output;
+  std::ifstream csv(dir_ / "eval" / "sequences.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("sequence,has_tape,piece,travelled_m,line_found,", 0), 0u) << header;
+  int rows = 0, with_tape = 0;
+  while (std::getline(csv, line)) {
+    ++rows;
+    with_tape += line.rfind("0,1,", 0) == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(rows, 200);  // 1 m at 10 mm a frame, with and without tape
+  EXPECT_EQ(with_tape, 100);
+  std::ifstream in(dir_ / "eval" / "summary.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["sequences"]["frames_with_tape"].get<int>(), 100);
+  EXPECT_EQ(j["sequences"]["frames_without_tape"].get<int>(), 100);
+  for (const auto& [piece, figures] : j["sequences"]["by_piece"].items())
+    EXPECT_TRUE(piece == "line" || piece == "arc") << piece;
+  const Result bad = run("evaluate --sequence-pieces line,zigzag");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("zigzag"), std::string::npos) << bad.output;
+}
+
 // An existing output folder is replaced only when the user asks (--force), and then only when
 // it holds a previous result; a folder of something else is never removed.
 TEST_F(AgvCli, AnExistingOutputFolderIsReplacedOnlyWithForce) {
@@ -196,10 +228,9 @@ TEST_F(AgvCli, BenchPrintsTheDesignKeys) {
   const Result r = run("bench --frames 12 --json --out " + path("bench"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
-  for (const char* key :
-       {"render_us_median", "perceive_us_median", "perceive_us_p99",
-        "baseline_canny_hough_us_median", "control_us_median", "closed_loop_fps", "peak_rss_mb",
-        "closed_loop_step_us_median"}) {
+  for (const char* key : {"render_us_median", "perceive_us_median", "perceive_us_p99",
+                          "baseline_canny_hough_us_median", "control_us_median", "closed_loop_fps",
+                          "peak_rss_mb", "closed_loop_step_us_median"}) {
     EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_GT(j[key].get<double>(), 0.0) << key;
   }
