@@ -60,12 +60,7 @@ std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
   return out;
 }
 
-void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
-                             OdometryKind kind, std::vector<Eigen::Vector2d>* in_vehicle) {
-  // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
-  // from the line through the nearest evidence points (the evidence itself, not a curve fitted
-  // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
-  // shift y). The shift along a straight tape is not observable: a small ridge keeps it at 0.
+void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
   // The misalignment's uncertainty grows by what the odometry can have got wrong since the last
   // frame: a constant by kind of odometry and a part per metre driven (from 0 when nothing is
   // remembered: this frame's evidence is placed where the vehicle is).
@@ -88,6 +83,14 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, doubl
     misalignment_cov_.row(i) *= scale;
     misalignment_cov_.col(i) *= scale;
   }
+}
+
+void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence,
+                             std::vector<Eigen::Vector2d>* in_vehicle) {
+  // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
+  // from the line through the nearest evidence points (the evidence itself, not a curve fitted
+  // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
+  // shift y). The shift along a straight tape is not observable: a small ridge keeps it at 0.
   if (evidence.size() < 3) return;
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
@@ -332,13 +335,14 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   last_odometry_ = odometry;
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
+  grow_misalignment(travelled_m, kind);  // every frame, also those without tape in view
   if (!in_view.line_found) return remembered_only(in_view);
   if (detection.followed < 0 || detection.followed >= static_cast<int>(detection.lines.size()))
     return in_view;
 
   std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
   const std::vector<Eigen::Vector2d> evidence = evidence_of(detection);
-  register_to(evidence, travelled_m, kind, &in_vehicle);
+  register_to(evidence, &in_vehicle);
   correction_ = vehicle_.compose(odometry->inverse());
 
   // Keep what is not too far behind and not too old; add this frame's evidence.

@@ -91,8 +91,10 @@ class PathMemory {
   // the way not taken at a fork (forgotten); the way the vehicle came is kept.
   static std::vector<bool> on_other_lines(const LineDetection& detection,
                                           const std::vector<Eigen::Vector2d>& points);
-  void register_to(const std::vector<Eigen::Vector2d>& evidence, double travelled_m,
-                   OdometryKind kind, std::vector<Eigen::Vector2d>* in_vehicle);
+  // The misalignment's uncertainty after travelled_m more of the odometry's kind.
+  void grow_misalignment(double travelled_m, OdometryKind kind);
+  void register_to(const std::vector<Eigen::Vector2d>& evidence,
+                   std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // A frame without tape in view after tape that turned out of the view: the errors from the
