@@ -41,8 +41,8 @@ double either_way(cv::RNG& rng) { return rng.uniform(0.0, 1.0) < 0.5 ? 1.0 : -1.
 PiecedPath draw_path(cv::RNG& rng, double length_m, const std::vector<PathPiece>& allowed) {
   PiecedPath p;
   p.path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(0.6);
-  p.pieces.push_back({0.0, "line"});
-  p.text = "line";
+  p.pieces.push_back({0.0, path_piece_name(PathPiece::kLine)});
+  p.text = path_piece_name(PathPiece::kLine);
   while (p.path.length_m() < length_m + 1.0) {
     const double start_m = p.path.length_m();
     PathPiece kind =
@@ -52,27 +52,27 @@ PiecedPath draw_path(cv::RNG& rng, double length_m, const std::vector<PathPiece>
     if (kind == PathPiece::kLine) {
       const double l = rng.uniform(0.2, 0.8);
       p.path.add_line(l);
-      p.pieces.push_back({start_m, "line"});
+      p.pieces.push_back({start_m, path_piece_name(PathPiece::kLine)});
       std::snprintf(text, sizeof(text), " line %.2f", l);
     } else if (kind == PathPiece::kArc) {
       const double r = std::exp(rng.uniform(std::log(0.5), std::log(3.0)));
       const double angle = either_way(rng) * deg_to_rad(rng.uniform(20.0, 90.0));
       p.path.add_arc(r, angle);
-      p.pieces.push_back({start_m, "arc"});
+      p.pieces.push_back({start_m, path_piece_name(PathPiece::kArc)});
       std::snprintf(text, sizeof(text), " arc R%.2f %+.0fdeg", r, rad_to_deg(angle));
     } else if (kind == PathPiece::kSBend) {
       const double r = rng.uniform(0.6, 1.5);
       const double angle = either_way(rng) * deg_to_rad(rng.uniform(20.0, 45.0));
       p.path.add_arc(r, angle).add_arc(r, -angle);
-      p.pieces.push_back({start_m, "s-bend"});
+      p.pieces.push_back({start_m, path_piece_name(PathPiece::kSBend)});
       std::snprintf(text, sizeof(text), " s-bend R%.2f %+.0fdeg", r, rad_to_deg(angle));
     } else if (kind == PathPiece::kCorner) {
       const double r = rng.uniform(0.1, 0.3);
       const double angle = either_way(rng) * deg_to_rad(rng.uniform(45.0, 135.0));
       p.path.add_arc(r, angle);
-      p.pieces.push_back({start_m, "corner"});
+      p.pieces.push_back({start_m, path_piece_name(PathPiece::kCorner)});
       p.path.add_line(0.3);
-      p.pieces.push_back({p.path.length_m() - 0.3, "line"});
+      p.pieces.push_back({p.path.length_m() - 0.3, path_piece_name(PathPiece::kLine)});
       std::snprintf(text, sizeof(text), " corner R%.2f %+.0fdeg", r, rad_to_deg(angle));
     } else {
       // The path goes on straight; a branch leaves it tangentially on an arc, to one side. The
@@ -86,7 +86,7 @@ PiecedPath draw_path(cv::RNG& rng, double length_m, const std::vector<PathPiece>
                  : side > 0 ? perception::BranchChoice::kRight
                             : perception::BranchChoice::kLeft;
       p.path.add_line(0.8);
-      p.pieces.push_back({start_m, "fork"});
+      p.pieces.push_back({start_m, path_piece_name(PathPiece::kFork)});
       std::snprintf(text, sizeof(text), " fork(branch %s R%.2f %.0fdeg, take %s)",
                     side > 0 ? "left" : "right", r, rad_to_deg(angle),
                     perception::branch_choice_name(p.choice));
