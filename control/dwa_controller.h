@@ -12,13 +12,18 @@ namespace agv::control {
 // period it samples (v, w) inside the window that the vehicle limits (speed, acceleration over
 // one period), the stopping distance to the path's end (v <= sqrt(2 a remaining)) and a
 // progress floor (v >= min_speed_fraction * path speed, where the window reaches it) allow,
-// rolls each out for horizon_s at constant (v, w), and scores it by
+// rolls each out at constant (v, w) for horizon_s, or for half the time the vehicle needs to
+// bring its yaw rate from the limit back to zero (w_max / alpha_max) where that is longer (a
+// shorter roll-out cannot see that a turn started now must be taken back), and scores it by
 //   G = w_heading * head + w_clearance * clearance + w_speed * speed + w_area * area,
 // each term normalised to [0, 1] by its range over the candidates (seed 002's sigma; a share
 // of the sum, the classic form, lets a term that varies little among the candidates drown the
 // others):
 //   head:      pi - |angle between the rolled-out heading and the direction to the next path
-//              point| (the path point lookahead_m beyond the foot of the rollout's end);
+//              point| (the path point lookahead_m beyond the foot of the rollout's end), less
+//              the path's own bend from that foot to the point (the angle its chord makes with
+//              the tangent): zero on the path and along it, on arcs too, where the uncorrected
+//              angle leads the vehicle inside the curve by about lookahead^2 / (2 R);
 //   clearance: distance left to the path's end after the rollout, capped at clearance_cap_m
 //              (the scenarios have no obstacles; the end of the path is the one thing to stop
 //              for);
@@ -31,20 +36,23 @@ namespace agv::control {
 // max_wheel_speed_m_s, or a steered wheel beyond max_steer_rad.
 // The path ahead: with a planned path and an input that knows where along it the vehicle is
 // (pose input: remaining_m finite), the planned path itself, so the roll-outs see the next
-// arc coming (as seed 002's planner does); otherwise (a camera) the local model, the arc of the
-// estimate's curvature through the foot point. Commands are (vx = v, vy = 0, wz = w).
+// arc coming (as seed 002's planner does); otherwise (a camera) the perceived path: the arc of the
+// estimate's curvature through the foot point, then, where perception previews a change of
+// curvature, the arc of the curvature ahead. Between the w samples, the best sample's parabola
+// through its neighbours' scores gives one more candidate (the window's w step is coarse against
+// a millimetre's correction). Commands are (vx = v, vy = 0, wz = w).
 class DwaController : public PathController {
  public:
   struct Options {
     bool improved = true;
     int v_samples = 11;
     int w_samples = 21;
-    double horizon_s = 1.0;
-    double lookahead_m = 0.4;
+    double horizon_s = 0.2;  // tuned with docs/dwa_tuning_suite.py
+    double lookahead_m = 0.1;
     double weight_heading = 1.0;
     double weight_clearance = 0.1;
     double weight_speed = 0.3;
-    double weight_area = 0.5;
+    double weight_area = 0.25;
     double clearance_cap_m = 1.0;
     double min_speed_fraction = 0.5;  // v >= this * path speed unless stopping for the end
     // The wheels on the centre line: x in the vehicle frame (improved: their speed and steer

@@ -100,6 +100,8 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
                             speed_m_s_ + options_.curve_decel_fraction * dv_m_s);
     if (speed_m_s_ < options_.path_speed_m_s) out.flags |= kSlowForCurve;
     estimate.curvature_1_m = coming_curvature_1_m(*last_good_, now_s);
+    estimate.curvature_change_m = change_ahead_m(*last_good_, now_s);
+    estimate.curvature_ahead_1_m = last_good_->curvature_ahead_1_m;
     const ControlContext context{options_.ts_s, speed_m_s_, previous_command_, limits_};
     const ControllerOutput controlled = controller_->update(estimate, context);
     desired = controlled.command;

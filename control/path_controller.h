@@ -17,6 +17,10 @@ struct TrackingEstimate {
   // Arc length from the foot point to the end of the path (negative past it); infinite when
   // the input cannot see the end (a camera: the tape's end shows as line loss).
   double remaining_m = std::numeric_limits<double>::infinity();
+  // The tape ahead (preview): the curvature changes to curvature_ahead_1_m this far ahead of the
+  // foot point, now; infinite when no change is known.
+  double curvature_change_m = std::numeric_limits<double>::infinity();
+  double curvature_ahead_1_m = 0.0;
 };
 
 // What a controller needs to know besides the error, once per control period.

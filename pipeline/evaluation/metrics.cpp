@@ -1,5 +1,7 @@
 #include "pipeline/evaluation/metrics.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -92,19 +94,39 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
     e_theta.push_back(row.truth.e_theta_rad);
     m.max_abs_e_d_m = std::max(m.max_abs_e_d_m, std::abs(row.truth.e_d_m));
     m.max_abs_e_theta_rad = std::max(m.max_abs_e_theta_rad, std::abs(row.truth.e_theta_rad));
-    m.max_abs_v_lateral_m_s =
-        std::max(m.max_abs_v_lateral_m_s, std::abs(row.output.command.vy_m_s));
     if (row.violations != 0) ++m.limit_violations;
   }
-  // Acceleration between consecutive commands; the vehicle starts at path speed, straight on.
+  // Lateral speed and acceleration of the reference point as commanded, the same for every
+  // drive and law (a Mecanum vehicle moves sideways with vy, a DWA turns with wz): the speed
+  // across the path, vx sin(e_theta) + vy cos(e_theta) with the true e_theta (else the one the
+  // controller acted on), and the change of the velocity in the floor frame between periods
+  // over the period, turning included (the vehicle starts at path speed, straight on, with
+  // the heading of the first row).
   const double ts = scenario.controller.ts_s;
-  BodyTwist previous{scenario.path_speed_m_s, 0.0, 0.0};
-  for (const TraceRow& row : run.rows) {
+  Eigen::Vector2d previous_velocity = Eigen::Vector2d::Zero();
+  double yaw_rad = 0.0;
+  for (size_t i = 0; i < run.rows.size(); ++i) {
+    const TraceRow& row = run.rows[i];
     const BodyTwist& c = row.output.command;
+    const double e_theta_rad = row.has_truth             ? row.truth.e_theta_rad
+                               : row.output.has_estimate ? row.output.estimate.e_theta_rad
+                                                         : 0.0;
+    m.max_abs_v_lateral_m_s =
+        std::max(m.max_abs_v_lateral_m_s,
+                 std::abs(c.vx_m_s * std::sin(e_theta_rad) + c.vy_m_s * std::cos(e_theta_rad)));
+    if (i == 0) {
+      yaw_rad = row.has_truth ? row.pose.yaw_rad : 0.0;
+      previous_velocity =
+          scenario.path_speed_m_s * Eigen::Vector2d(std::cos(yaw_rad), std::sin(yaw_rad));
+    } else {
+      yaw_rad =
+          row.has_truth ? row.pose.yaw_rad : yaw_rad + run.rows[i - 1].output.command.wz_rad_s * ts;
+    }
+    const Eigen::Vector2d velocity =
+        Eigen::Rotation2Dd(yaw_rad) * Eigen::Vector2d(c.vx_m_s, c.vy_m_s);
     m.max_abs_accel_m_s2 =
-        std::max(m.max_abs_accel_m_s2,
-                 std::hypot(c.vx_m_s - previous.vx_m_s, c.vy_m_s - previous.vy_m_s) / ts);
-    previous = c;
+        std::max(m.max_abs_accel_m_s2, (velocity - previous_velocity).norm() / ts);
+    previous_velocity = velocity;
   }
   m.settle_time_s = settle_time(t, e_d, e_theta, scenario.metrics.settle_band_e_d_m,
                                 scenario.metrics.settle_band_e_theta_rad);

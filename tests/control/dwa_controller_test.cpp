@@ -55,6 +55,45 @@ TEST(DwaController, ImprovedWindowDropsWhatTheWheelsCannotDo) {
   EXPECT_LT(dwa.last_candidates(), 11 * 21);
 }
 
+// From the camera on an arc of R 1 m, on the tape and along it at 0.3 m/s, turning at
+// v / R already: the heading term, less the arc's own bend, is best for the roll-out that stays
+// on the arc, w = 0.3 rad/s (within a tenth of the window's sample step, 0.04 rad/s; the
+// parabola between samples refines it). The bearing to the next path point alone leans half the
+// arc's angle inwards and scores a tighter turn best.
+TEST(DwaController, OnAnArcTheBestRollOutStaysOnIt) {
+  for (bool improved : {false, true}) {
+    DwaController::Options options;
+    options.improved = improved;
+    DwaController dwa(options);
+    ControlContext c;
+    c.ts_s = 0.1;
+    c.path_speed_m_s = 0.3;
+    c.previous_command = {0.3, 0.0, 0.3};
+    TrackingEstimate e;
+    e.curvature_1_m = 1.0;
+    const ControllerOutput out = dwa.update(e, c);
+    EXPECT_NEAR(out.command.wz_rad_s, 0.3, 0.004) << (improved ? "improved" : "plain");
+  }
+}
+
+// The camera previews the end of an arc 0.05 m ahead (a line follows): the roll-outs (0.06 m
+// at 0.3 m/s) are scored against the line beyond it, so the vehicle starts to unwind its turn,
+// w below v / R by more than half a sample step, where without the preview it keeps turning at
+// v / R.
+TEST(DwaController, APreviewedLineAheadUnwindsTheTurn) {
+  DwaController dwa(DwaController::Options{});
+  ControlContext c;
+  c.ts_s = 0.1;
+  c.path_speed_m_s = 0.3;
+  c.previous_command = {0.3, 0.0, 0.3};
+  TrackingEstimate e;
+  e.curvature_1_m = 1.0;
+  EXPECT_NEAR(dwa.update(e, c).command.wz_rad_s, 0.3, 0.004);
+  e.curvature_change_m = 0.05;
+  e.curvature_ahead_1_m = 0.0;
+  EXPECT_LT(dwa.update(e, c).command.wz_rad_s, 0.3 - 0.02);
+}
+
 // At the end of the path (pose input: remaining 0) the window only holds v = 0 or braking.
 TEST(DwaController, StopsForTheEndOfThePath) {
   DwaController dwa(DwaController::Options{});

@@ -55,12 +55,60 @@ TEST(ClosedLoop, SettlesWithinThePapersTimeFromImages) {
   }
 }
 
+// Issue 21's bars for DWA from the camera: Tables 1 and 2 within the paper's bands in 2 s and
+// kept; on the default suite's curve (1 m of line, a quarter circle of R 1 m, line) within the
+// paper's 2 mm of the tape once settled on the first line (after 2 s; the issue asks for 5 mm,
+// measured 0.7 mm; without the heading term's bend correction 5.0 mm); never a limit broken.
+// Before, DWA never settled (57 mm inside a R 1.5 m arc: the bearing to a point 0.7 m ahead
+// cuts the curve).
+TEST(ClosedLoop, DwaFromTheCameraSettlesAndFollowsACurve) {
+  const std::pair<std::string, std::string> curve{
+      "path.segments",
+      "[{kind: line, length_m: 1.0}, {kind: arc, radius_m: 1.0, angle_rad: 1.5707963268}, "
+      "{kind: line, length_m: 1.0}]"};
+  const std::vector<std::vector<std::pair<std::string, std::string>>> cases{
+      {{"duration_s", "4.0"}},
+      {{"duration_s", "4.0"}, {"path_speed_m_s", "0.5"}},
+      {{"duration_s", "8.0"}, curve}};
+  const char* case_names[] = {"table 1", "table 2", "curve"};
+  for (const char* kind : {"dwa", "improved_dwa"}) {
+    for (size_t c = 0; c < cases.size(); ++c) {
+      std::vector<std::pair<std::string, std::string>> set = cases[c];
+      set.push_back({"controller.kind", kind});
+      const Scenario s = default_with(set);
+      const RunResult run = run_scenario(s);
+      const RunMetrics m = compute_metrics(run, s);
+      const std::string label = std::string(kind) + " on " + case_names[c];
+      EXPECT_EQ(m.limit_violations, 0) << label;
+      if (c < 2) {
+        ASSERT_TRUE(m.settle_time_s.has_value()) << label;
+        EXPECT_LE(*m.settle_time_s, 2.0) << label;
+        continue;
+      }
+      double worst_m = 0.0;
+      for (const TraceRow& row : run.rows)
+        if (row.t_s >= 2.0) worst_m = std::max(worst_m, std::abs(row.truth.e_d_m));
+      EXPECT_LE(worst_m, 0.002) << label;
+    }
+  }
+}
+
 // The paper's a_max on every step: slower, but never a limit broken.
 TEST(ClosedLoop, PaperAccelerationOnEveryStepNeverBreaksTheLimit) {
   const Scenario s = default_with({{"vehicle.a_max_m_s2", "0.05"}});
-  const RunMetrics m = compute_metrics(run_scenario(s), s);
+  const RunResult run = run_scenario(s);
+  const RunMetrics m = compute_metrics(run, s);
   EXPECT_EQ(m.limit_violations, 0);
-  EXPECT_LE(m.max_abs_accel_m_s2, 0.05 * (1 + 1e-6));
+  // The limit bounds the change of the commanded (vx, vy) per period (the metric's acceleration
+  // is the floor-frame one, turning included).
+  BodyTwist previous{s.path_speed_m_s, 0.0, 0.0};
+  for (const TraceRow& row : run.rows) {
+    const BodyTwist& c = row.output.command;
+    EXPECT_LE(std::hypot(c.vx_m_s - previous.vx_m_s, c.vy_m_s - previous.vy_m_s),
+              0.05 * s.controller.ts_s * (1 + 1e-6))
+        << "at " << row.t_s;
+    previous = c;
+  }
   ASSERT_TRUE(m.settle_time_s.has_value());
 }
 

@@ -116,5 +116,30 @@ TEST(Metrics, RunMetricsOfAHandMadeTrace) {
   EXPECT_NEAR(m.coverage_area_m2, 2.0 * area_one, 1e-12);
 }
 
+// Lateral speed and acceleration mean the same for a vehicle that turns (vy = 0, as DWA
+// commands) as for one that moves sideways: at 0.3 m/s turned 0.1 rad from the path the
+// reference point crosses it at 0.3 sin(0.1) m/s; a heading that turns by 0.06 rad in one
+// period changes the floor-frame velocity by 2 x 0.3 sin(0.03) m/s in 0.1 s. (Before, both
+// read 0: they were |vy| and the change of the body-frame command.)
+TEST(Metrics, LateralSpeedAndAccelerationCountTurning) {
+  Scenario scenario;
+  scenario.path = control::Path::starting_at({-1.0, 0.0, 0.0}).add_line(5.0);
+  scenario.path_speed_m_s = 0.3;
+  const std::vector<double> yaw{0.0, 0.04, 0.1, 0.1};
+  RunResult run;
+  for (size_t i = 0; i < yaw.size(); ++i) {
+    TraceRow row;
+    row.t_s = 0.1 * i;
+    row.has_truth = true;
+    row.pose = {0.03 * i, 0.0, yaw[i]};
+    row.truth.e_theta_rad = yaw[i];
+    row.output.command = {0.3, 0.0, 0.4};
+    run.rows.push_back(row);
+  }
+  const RunMetrics m = compute_metrics(run, scenario);
+  EXPECT_NEAR(m.max_abs_v_lateral_m_s, 0.3 * std::sin(0.1), 1e-12);
+  EXPECT_NEAR(m.max_abs_accel_m_s2, 2.0 * 0.3 * std::sin(0.03) / 0.1, 1e-9);
+}
+
 }  // namespace
 }  // namespace agv::pipeline
