@@ -70,13 +70,24 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
   // offsets would otherwise stop the vehicle wherever moving on makes them grow).
   v_lo = std::max(v_lo, std::min(v_hi, o.min_speed_fraction * context.path_speed_m_s));
   v_lo = std::min(v_lo, v_hi);
-  const double w_lo = std::max(-limits.w_max_rad_s, w0 - limits.alpha_max_rad_s2 * ts);
-  const double w_hi = std::min(limits.w_max_rad_s, w0 + limits.alpha_max_rad_s2 * ts);
+  // The yaw acceleration the vehicle can make: its limit, and with steered wheels what their
+  // steer rate allows at the present speed.
+  double alpha_rad_s2 = limits.alpha_max_rad_s2;
+  if (std::isfinite(o.max_steer_rate_rad_s)) {
+    double steered_x_m = 0.0;
+    if (o.front_steers) steered_x_m = std::max(steered_x_m, std::abs(o.front_wheel_x_m));
+    if (o.rear_steers) steered_x_m = std::max(steered_x_m, std::abs(o.rear_wheel_x_m));
+    if (steered_x_m > 0.0)
+      alpha_rad_s2 = std::min(alpha_rad_s2,
+                              std::max(std::abs(v0), 0.05) * o.max_steer_rate_rad_s / steered_x_m);
+  }
+  const double w_lo = std::max(-limits.w_max_rad_s, w0 - alpha_rad_s2 * ts);
+  const double w_hi = std::min(limits.w_max_rad_s, w0 + alpha_rad_s2 * ts);
 
   // At least half the time the vehicle needs to bring its yaw rate from the limit back to zero:
   // a shorter roll-out cannot see that a turn started now must be taken back.
   const double horizon_s =
-      std::max(o.horizon_s, 0.5 * limits.w_max_rad_s / std::max(1e-9, limits.alpha_max_rad_s2));
+      std::max(o.horizon_s, 0.5 * limits.w_max_rad_s / std::max(1e-9, alpha_rad_s2));
   const int steps = std::max(1, static_cast<int>(std::lround(horizon_s / ts)));
   // The path and the vehicle's pose in its frame; end_s_m: where the path's end lies.
   const bool use_plan = o.planned_path && std::isfinite(remaining_m);

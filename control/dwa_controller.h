@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -61,6 +62,10 @@ class DwaController : public PathController {
     double rear_wheel_x_m = -0.5;
     double max_wheel_speed_m_s = 1.0;
     double max_steer_rad = std::numbers::pi / 2.0;
+    // How fast a steered wheel turns (infinite: no steered wheels): at speed v a wheel x from
+    // the reference point changes the yaw rate by at most v * rate / |x| per second (at zero
+    // steer; more at larger angles), which bounds the window's w (both DWAs).
+    double max_steer_rate_rad_s = std::numeric_limits<double>::infinity();
     bool front_steers = true;
     bool rear_steers = true;
     std::shared_ptr<const Path> planned_path;  // may be empty

@@ -62,6 +62,7 @@ std::unique_ptr<control::PathController> make_dwa(const Scenario& s) {
   if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive)) {
     options.max_wheel_speed_m_s = dual->max_wheel_speed_m_s;
     options.max_steer_rad = dual->max_steer_rad;
+    options.max_steer_rate_rad_s = dual->max_steer_rate_rad_s;
     options.front_steers = dual->front_steers();
     options.rear_steers = dual->rear_steers();
   } else {  // Mecanum wheels do not steer; their rims turn at most this fast

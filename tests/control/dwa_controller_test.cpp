@@ -94,6 +94,28 @@ TEST(DwaController, APreviewedLineAheadUnwindsTheTurn) {
   EXPECT_LT(dwa.update(e, c).command.wz_rad_s, 0.3 - 0.02);
 }
 
+// A dual steering-wheel vehicle turns its wheels at 1 rad/s: at 0.3 m/s with the wheels 0.5 m
+// from the reference point its yaw rate changes by at most 0.3 x 1 / 0.5 = 0.6 rad/s^2 (at zero
+// steer), so the window holds |w - w0| <= 0.06 rad/s, not the 0.4 rad/s of alpha_max (a wider
+// window commands turns the wheels reach a second later, and the vehicle weaves 57 mm).
+TEST(DwaController, SteeredWheelsNarrowTheWindow) {
+  for (bool improved : {false, true}) {
+    DwaController::Options options;
+    options.improved = improved;
+    options.max_steer_rate_rad_s = 1.0;
+    DwaController dwa(options);
+    ControlContext c;
+    c.ts_s = 0.1;
+    c.path_speed_m_s = 0.3;
+    c.previous_command = {0.3, 0.0, 0.0};
+    TrackingEstimate e;
+    e.e_theta_rad = 0.3;  // wants a hard right turn
+    const ControllerOutput out = dwa.update(e, c);
+    EXPECT_LT(out.command.wz_rad_s, 0.0);
+    EXPECT_GE(out.command.wz_rad_s, -0.06 - 1e-12);
+  }
+}
+
 // At the end of the path (pose input: remaining 0) the window only holds v = 0 or braking.
 TEST(DwaController, StopsForTheEndOfThePath) {
   DwaController dwa(DwaController::Options{});
