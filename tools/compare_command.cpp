@@ -17,8 +17,8 @@
 #include "pipeline/evaluation/compare_run.h"
 #include "pipeline/evaluation/output_folder.h"
 #include "tools/build_info.h"
-#include "tools/peak_memory.h"
 #include "tools/compare_report.h"
+#include "tools/peak_memory.h"
 #include "tools/progress_bar.h"
 
 namespace agv::tools {
@@ -164,7 +164,8 @@ void print_summary(const ComparePlan& plan, const std::vector<CompareRun>& runs)
         return std::string(text);
       };
       std::printf(
-          "%-22s settled %d/%d | settle median %s, p95 %s | max |e_d| median "
+          "%-22s settled %d/%d | settle median %s, p95 %s | max |e_d| after the 1st measurement "
+          "median "
           "%.2f mm, p95 %.2f mm, worst %.2f mm\n",
           s.controller.c_str(), s.settled, s.runs, seconds(s.settle_median_s).c_str(),
           seconds(s.settle_p95_s).c_str(), 1e3 * s.max_e_d_median_m, 1e3 * s.max_e_d_p95_m,

@@ -45,20 +45,22 @@ void write_text(const fs::path& file, const std::string& text) {
 ReportTable metrics_table(bool with_scenario) {
   std::vector<ReportTable::Column> columns;
   if (with_scenario) columns.push_back({"scenario", "scenario"});
-  columns.insert(columns.end(), {{"controller", "controller"},
-                                 {"settle_time_s", "settle (s)"},
-                                 {"max_abs_e_d_mm", "max abs e_d (mm)"},
-                                 {"max_abs_e_theta_deg", "max abs e_θ (deg)"},
-                                 {"rms_e_d_mm", "RMS e_d after settling (mm)"},
-                                 {"rms_e_theta_deg", "RMS e_θ after settling (deg)"},
-                                 {"overshoot_e_d_mm", "overshoot e_d (mm)"},
-                                 {"max_abs_v_lateral_m_s", "max abs lateral speed (m/s)"},
-                                 {"max_abs_accel_m_s2", "max abs accel (m/s²)"},
-                                 {"limit_violations", "limit violations"},
-                                 {"coverage_area_m2", "coverage area (m²)"},
-                                 {"frames_lost", "frames lost"},
-                                 {"max_measurement_age_ms", "max measurement age (ms)"},
-                                 {"control_us_per_period", "compute per period (µs)"}});
+  columns.insert(columns.end(),
+                 {{"controller", "controller"},
+                  {"settle_time_s", "settle (s)"},
+                  {"max_abs_e_d_mm", "max abs e_d (mm)"},
+                  {"max_abs_e_theta_deg", "max abs e_θ (deg)"},
+                  {"max_abs_e_d_acting_mm", "max abs e_d after the 1st measurement (mm)"},
+                  {"rms_e_d_mm", "RMS e_d after settling (mm)"},
+                  {"rms_e_theta_deg", "RMS e_θ after settling (deg)"},
+                  {"overshoot_e_d_mm", "overshoot e_d (mm)"},
+                  {"max_abs_v_lateral_m_s", "max abs lateral speed (m/s)"},
+                  {"max_abs_accel_m_s2", "max abs accel (m/s²)"},
+                  {"limit_violations", "limit violations"},
+                  {"coverage_area_m2", "coverage area (m²)"},
+                  {"frames_lost", "frames lost"},
+                  {"max_measurement_age_ms", "max measurement age (ms)"},
+                  {"control_us_per_period", "compute per period (µs)"}});
   return ReportTable(columns);
 }
 
@@ -68,7 +70,8 @@ std::vector<std::string> metrics_cells(const CompareRun& r, bool with_scenario) 
   if (with_scenario) cells.push_back(r.scenario);
   cells.insert(cells.end(),
                {r.controller, fixed(m.settle_time_s, 1.0, 2), fixed(1e3 * m.max_abs_e_d_m, 2),
-                fixed(rad_to_deg(m.max_abs_e_theta_rad), 2), fixed(m.rms_e_d_m, 1e3, 3),
+                fixed(rad_to_deg(m.max_abs_e_theta_rad), 2),
+                fixed(1e3 * m.max_abs_e_d_after_first_measurement_m, 2), fixed(m.rms_e_d_m, 1e3, 3),
                 fixed(m.rms_e_theta_rad, 180.0 / M_PI, 3), fixed(1e3 * m.overshoot_e_d_m, 2),
                 fixed(m.max_abs_v_lateral_m_s, 3), fixed(m.max_abs_accel_m_s2, 3),
                 std::to_string(m.limit_violations), fixed(m.coverage_area_m2, 4),
@@ -183,8 +186,10 @@ std::string latency_tables(const ComparePlan& plan, const std::vector<CompareRun
     std::function<std::string(const CompareRun&)> value;
   };
   const std::vector<Measure> measures{
-      {"max abs e_d (mm), compensation on / off",
-       [](const CompareRun& r) { return fixed(1e3 * r.metrics.max_abs_e_d_m, 2); }},
+      {"max abs e_d after the 1st measurement (mm), compensation on / off",
+       [](const CompareRun& r) {
+         return fixed(1e3 * r.metrics.max_abs_e_d_after_first_measurement_m, 2);
+       }},
       {"settle time (s), compensation on / off",
        [](const CompareRun& r) {
          return r.metrics.settle_time_s ? fixed(*r.metrics.settle_time_s, 2) : "never";
@@ -217,10 +222,81 @@ std::string latency_tables(const ComparePlan& plan, const std::vector<CompareRun
   return out;
 }
 
+// Page style: tables in a small font with wrapping headers, so that the 15 columns fit a
+// laptop screen; every table sorts by a click on a column's header (numbers as numbers,
+// "never" and "n/a" last).
 const char* kStyle =
-    "<style>body{font-family:sans-serif;max-width:1200px;margin:auto;padding:1em}"
-    "table{border-collapse:collapse;margin:0.5em 0 1.5em}td,th{border:1px solid #ccc;"
-    "padding:3px 8px}td.num{text-align:right}th{background:#eee}img{max-width:100%}</style>\n";
+    "<style>body{font-family:sans-serif;max-width:1400px;margin:auto;padding:1em}"
+    "table{border-collapse:collapse;margin:0.5em 0 1.5em;font-size:13px}td,th{border:1px solid "
+    "#ccc;padding:2px 6px}td.num{text-align:right}th{background:#eee;max-width:9em;"
+    "font-weight:normal;cursor:pointer}th:hover{background:#ddd}img{max-width:100%}"
+    "td.score{text-align:center;min-width:4em}td.about{font-size:12px;color:#444}</style>\n"
+    "<script>document.addEventListener('DOMContentLoaded',()=>{"
+    "document.querySelectorAll('table.sortable th').forEach((th,i)=>{th.title='sort';"
+    "th.addEventListener('click',()=>{const body=th.closest('table').tBodies[0];"
+    "const rows=[...body.rows].filter(r=>r.cells[0].tagName==='TD');"
+    "const up=th.dataset.up!=='1';th.dataset.up=up?'1':'0';"
+    "const key=r=>{const t=r.cells[i].textContent.trim();const v=parseFloat(t);"
+    "return isNaN(v)?(t==='never'||t==='n/a'||t===''?[1,Infinity]:[0,t]):[0,v];};"
+    "rows.sort((a,b)=>{const x=key(a),y=key(b);const c=x[0]-y[0]||(x[1]<y[1]?-1:x[1]>y[1]?1:0);"
+    "return up?c:-c;});rows.forEach(r=>body.appendChild(r));});});});</script>\n";
+
+// Background of a settle-time cell: green at 0 s through yellow to red at 3 s and beyond.
+std::string settle_colour(double settle_s) {
+  const double hue = 120.0 * (1.0 - std::clamp(settle_s / 3.0, 0.0, 1.0));
+  char text[48];
+  std::snprintf(text, sizeof(text), "hsl(%.0f,70%%,75%%)", hue);
+  return text;
+}
+
+// The score matrix: a row per controller (with its line from the suite), a column per scenario
+// of the suite (not the latency study), each cell the settle time, coloured.
+std::string score_matrix(const ComparePlan& plan, const std::vector<CompareRun>& runs, bool html) {
+  std::vector<const pipeline::SuiteEntry*> scenarios;
+  for (const pipeline::PlannedScenario& s : plan.scenarios)
+    if (s.latency_label.empty()) scenarios.push_back(&s.entry);
+  std::map<std::pair<std::string, std::string>, const CompareRun*> by;
+  for (const CompareRun& r : runs) by[{r.controller, r.scenario}] = &r;
+  std::string out;
+  if (html) {
+    out = "<table class=\"sortable\">\n<tr><th>controller</th>";
+    for (const auto* s : scenarios)
+      out += "<th title=\"" + html_escape(s->about) + "\">" + html_escape(s->name) + "</th>";
+    out += "<th>about</th></tr>\n";
+  } else {
+    out = "| controller |";
+    for (const auto* s : scenarios) out += " " + s->name + " |";
+    out += " about |\n|---|";
+    for (size_t i = 0; i < scenarios.size(); ++i) out += "---:|";
+    out += "---|\n";
+  }
+  for (const pipeline::SuiteEntry& c : plan.controllers) {
+    out += html ? "<tr><td>" + html_escape(c.name) + "</td>" : "| " + c.name + " |";
+    for (const auto* s : scenarios) {
+      const auto found = by.find({c.name, s->name});
+      if (found == by.end()) {
+        out += html ? "<td class=\"score\" style=\"background:#f4f4f4\">n/a</td>" : " n/a |";
+        continue;
+      }
+      const pipeline::RunMetrics& m = found->second->metrics;
+      const std::string text = m.settle_time_s ? fixed(*m.settle_time_s, 2) + " s" : "never";
+      if (!html) {
+        out += " " + text + " |";
+        continue;
+      }
+      const std::string style = m.settle_time_s ? "background:" + settle_colour(*m.settle_time_s)
+                                                : "background:#a00;color:#fff";
+      out += "<td class=\"score\" style=\"" + style +
+             "\" title=\"max abs e_d after the 1st "
+             "measurement " +
+             fixed(1e3 * m.max_abs_e_d_after_first_measurement_m, 2) + " mm, limit violations " +
+             std::to_string(m.limit_violations) + "\">" + text + "</td>";
+    }
+    out += html ? "<td class=\"about\">" + html_escape(c.about) + "</td></tr>\n"
+                : " " + c.about + " |\n";
+  }
+  return out + (html ? "</table>\n" : "");
+}
 
 std::string plan_heading(const ComparePlan& plan, size_t runs) {
   return "suite '" + plan.suite_name + "', seed " + std::to_string(plan.seed) + ", " +
@@ -247,14 +323,20 @@ std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePl
   for (const CompareRun& r : runs) all.add_row(metrics_cells(r, true));
   write_text(dir / "table.csv", all.csv());
 
-  std::string md = "# agv compare: " + plan_heading(plan, runs.size()) + "\n\n" + legend + "\n\n";
+  std::string md = "# agv compare: " + plan_heading(plan, runs.size()) + "\n\n" +
+                   "## Settle time by controller and scenario\n\n" +
+                   score_matrix(plan, runs, false) + "\n" + legend + "\n\n";
   std::string html = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: " +
                      html_escape(plan.suite_name) + "</title>\n" + kStyle + "</head><body>\n" +
                      "<h1>agv compare</h1>\n<p>" + html_escape(build_words()) + "</p>\n<p>" +
                      html_escape(plan_heading(plan, runs.size())) +
                      ". Tables: <a href=\"table.md\">table.md</a>, <a href=\"table.csv\">" +
-                     "table.csv</a>; traces: series/*.csv.</p>\n<p>" + html_escape(legend) +
-                     "</p>\n";
+                     "table.csv</a>; traces: series/*.csv.</p>\n" +
+                     "<h2>Settle time by controller and scenario</h2>\n" +
+                     score_matrix(plan, runs, true) + "<p>" + html_escape(legend) +
+                     " Green: settled at once; red: 3 s or more; dark red: never. A cell's tooltip "
+                     "gives the largest lateral error once the first measurement arrived; a "
+                     "scenario's, what it is. Click a column's header to sort.</p>\n";
   html += "<p>Scenarios:";
   for (const pipeline::PlannedScenario& scenario : plan.scenarios) {
     const std::string name = html_escape(scenario.entry.name);
@@ -309,6 +391,7 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
                        {"initial_e_d_mm", "initial e_d (mm)"},
                        {"settle_time_s", "settle (s)"},
                        {"max_abs_e_d_mm", "max abs e_d (mm)"},
+                       {"max_abs_e_d_acting_mm", "max abs e_d after the 1st measurement (mm)"},
                        {"max_abs_e_theta_deg", "max abs e_θ (deg)"},
                        {"rms_e_d_mm", "RMS e_d after settling (mm)"},
                        {"limit_violations", "limit violations"},
@@ -317,6 +400,7 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
     per_run.add_row({r.scenario, r.controller, fixed(rad_to_deg(r.initial_e_theta_rad), 3),
                      fixed(1e3 * r.initial_e_d_m, 3), fixed(r.metrics.settle_time_s, 1.0, 2),
                      fixed(1e3 * r.metrics.max_abs_e_d_m, 3),
+                     fixed(1e3 * r.metrics.max_abs_e_d_after_first_measurement_m, 3),
                      fixed(rad_to_deg(r.metrics.max_abs_e_theta_rad), 3),
                      fixed(r.metrics.rms_e_d_m, 1e3, 4), std::to_string(r.metrics.limit_violations),
                      fixed(r.control_us_per_period, 1)});
@@ -329,9 +413,9 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
                      {"settle_median_s", "settle median (s)"},
                      {"settle_p95_s", "settle p95 (s)"},
                      {"settle_worst_s", "settle worst (s)"},
-                     {"max_e_d_median_mm", "max abs e_d median (mm)"},
-                     {"max_e_d_p95_mm", "max abs e_d p95 (mm)"},
-                     {"max_e_d_worst_mm", "max abs e_d worst (mm)"},
+                     {"max_e_d_median_mm", "max abs e_d after the 1st measurement: median (mm)"},
+                     {"max_e_d_p95_mm", "p95 (mm)"},
+                     {"max_e_d_worst_mm", "worst (mm)"},
                      {"max_e_theta_median_deg", "max abs e_θ median (deg)"},
                      {"max_e_theta_p95_deg", "max abs e_θ p95 (deg)"},
                      {"max_e_theta_worst_deg", "max abs e_θ worst (deg)"},
@@ -355,80 +439,69 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
       fixed(rad_to_deg(runs.front().settle_band_e_theta_rad), 1) +
       " deg; 'never': a run (or, for p95 and worst, enough runs) that did not settle.";
 
-  // Histograms of settle time and max |e_d|: counts per bin and controller, written to
-  // histograms.csv and drawn as one outline per controller.
-  const int bins = 25;
-  double settle_hi = 0.1, e_d_hi = 0.1;
-  for (const CompareRun& r : runs) {
-    if (r.metrics.settle_time_s) settle_hi = std::max(settle_hi, *r.metrics.settle_time_s);
-    e_d_hi = std::max(e_d_hi, 1e3 * r.metrics.max_abs_e_d_m);
-  }
-  const double settle_bin_s = settle_hi / bins * 1.0001, e_d_bin_mm = e_d_hi / bins * 1.0001;
+  // Cumulative distributions of settle time and max |e_d| after the first measurement, one
+  // step curve per controller (the fraction of its runs at or below each value; runs that never
+  // settle keep the settle curve below 1), written to distributions.csv and drawn.
   const size_t controllers = plan.controllers.size();
-  std::vector<std::vector<int>> settle_counts(bins, std::vector<int>(controllers, 0));
-  std::vector<std::vector<int>> e_d_counts = settle_counts;
-  std::vector<int> never(controllers, 0);
+  std::vector<std::vector<double>> settle_s(controllers), e_d_mm(controllers);
+  std::vector<int> run_count(controllers, 0);
   for (const CompareRun& r : runs) {
     const size_t c = static_cast<size_t>(
         std::find_if(plan.controllers.begin(), plan.controllers.end(),
                      [&](const pipeline::SuiteEntry& e) { return e.name == r.controller; }) -
         plan.controllers.begin());
     if (c == controllers) continue;
-    if (r.metrics.settle_time_s)
-      ++settle_counts[std::min(bins - 1, static_cast<int>(*r.metrics.settle_time_s / settle_bin_s))]
-                     [c];
-    else
-      ++never[c];
-    ++e_d_counts[std::min(bins - 1, static_cast<int>(1e3 * r.metrics.max_abs_e_d_m / e_d_bin_mm))]
-                [c];
+    ++run_count[c];
+    if (r.metrics.settle_time_s) settle_s[c].push_back(*r.metrics.settle_time_s);
+    e_d_mm[c].push_back(1e3 * r.metrics.max_abs_e_d_after_first_measurement_m);
   }
-  std::ostringstream histograms;
-  histograms << "settle_bin_centre_s,max_e_d_bin_centre_mm";
-  for (const auto& c : plan.controllers)
-    histograms << ",settle_" << c.name << ",max_e_d_" << c.name;
-  histograms << "\n";
-  for (int b = 0; b < bins; ++b) {
-    histograms << fixed((b + 0.5) * settle_bin_s, 4) << ',' << fixed((b + 0.5) * e_d_bin_mm, 4);
-    for (size_t c = 0; c < controllers; ++c)
-      histograms << ',' << settle_counts[b][c] << ',' << e_d_counts[b][c];
-    histograms << "\n";
+  std::ostringstream distributions, blocks;
+  distributions << "controller,quantity,value,fraction_of_runs\n";
+  for (size_t c = 0; c < controllers; ++c) {
+    for (int q = 0; q < 2; ++q) {
+      std::vector<double>& values = q == 0 ? settle_s[c] : e_d_mm[c];
+      std::sort(values.begin(), values.end());
+      const char* quantity = q == 0 ? "settle_time_s" : "max_abs_e_d_after_first_measurement_mm";
+      blocks << "$q" << q << "c" << c << " << EOD\n";
+      for (size_t i = 0; i < values.size(); ++i) {
+        const double fraction = static_cast<double>(i + 1) / std::max(1, run_count[c]);
+        distributions << plan.controllers[c].name << ',' << quantity << ',' << fixed(values[i], 5)
+                      << ',' << fixed(fraction, 5) << "\n";
+        blocks << fixed(values[i], 5) << ' ' << fixed(fraction, 5) << "\n";
+      }
+      if (values.empty()) blocks << "NaN NaN\n";
+      blocks << "EOD\n";
+    }
   }
-  write_text(dir / "histograms.csv", histograms.str());
+  write_text(dir / "distributions.csv", distributions.str());
 
   std::ostringstream script;
-  const std::string csv = gnuplot_quote((dir / "histograms.csv").string());
   script << "set terminal pngcairo size 1100,800 font 'DejaVu Sans,11'\n"
-         << "set output " << gnuplot_quote((dir / "histograms.png").string()) << "\n"
-         << "set datafile separator ','\n"
-         << "set multiplot layout 2,1 title " << gnuplot_quote(heading) << " noenhanced\n"
-         << "set grid\nset key outside right top noenhanced\nset ylabel 'runs'\n"
-         << "set yrange [0:*]\nset lmargin 10\n";
-  // Whole runs on the count axis: a tick step of at least 1.
-  auto histogram = [&](const std::string& xlabel, int x_column, int first_count, bool with_never) {
-    int most = 1;
-    for (int b = 0; b < bins; ++b) {
-      for (size_t c = 0; c < controllers; ++c)
-        most = std::max(most, (first_count == 3 ? settle_counts : e_d_counts)[b][c]);
-    }
-    script << "set xlabel " << gnuplot_quote(xlabel) << "\nset ytics "
-           << std::max(1, (most + 7) / 8) << "\nplot ";
+         << "set output " << gnuplot_quote((dir / "distributions.png").string()) << "\n"
+         << blocks.str() << "set multiplot layout 2,1 title " << gnuplot_quote(heading)
+         << " noenhanced\n"
+         << "set grid\nset key outside right top noenhanced\n"
+         << "set ylabel 'fraction of runs'\nset yrange [0:1.02]\nset ytics 0.2\nset lmargin 10\n";
+  auto cumulative = [&](const std::string& xlabel, int q) {
+    script << "set xlabel " << gnuplot_quote(xlabel) << "\nplot ";
     for (size_t c = 0; c < controllers; ++c) {
       std::string title = plan.controllers[c].name;
-      if (with_never && never[c] > 0) title += " (" + std::to_string(never[c]) + " never settle)";
-      script << (c ? ", " : "") << csv << " using " << x_column << ":" << first_count + 2 * c
-             << " every ::1 with histeps lw 2 lc rgb '" << kColours[c % kColours.size()]
-             << "' title " << gnuplot_quote(title);
+      const int never = run_count[c] - static_cast<int>(settle_s[c].size());
+      if (q == 0 && never > 0) title += " (" + std::to_string(never) + " never settle)";
+      script << (c ? ", " : "") << "$q" << q << "c" << c << " using 1:2 with steps lw 2 lc rgb '"
+             << kColours[c % kColours.size()] << "' title " << gnuplot_quote(title);
     }
     script << "\n";
   };
-  histogram("settle time (s), runs that settled", 1, 3, true);
-  histogram("max abs lateral error e_d (mm)", 2, 4, false);
+  cumulative("settle time (s): fraction of runs settled by then", 0);
+  cumulative("max abs lateral error e_d after the first measurement (mm)", 1);
   script << "unset multiplot\n";
   const std::string failure = run_gnuplot(script.str());
-  if (!failure.empty()) warnings.push_back("histograms.png: " + failure);
+  if (!failure.empty()) warnings.push_back("distributions.png: " + failure);
 
   write_text(dir / "table.md", "# agv compare: " + heading + "\n\n" + legend + "\n\n" +
-                                   table.markdown("never") + "\n![histograms](histograms.png)\n");
+                                   table.markdown("never") +
+                                   "\n![distributions](distributions.png)\n");
   write_text(dir / "index.html",
              "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: Monte "
              "Carlo</title>\n" +
@@ -437,7 +510,7 @@ std::vector<std::string> write_monte_carlo_report(const fs::path& dir, const Com
                  ". Tables: <a href=\"summary.csv\">summary.csv</a>, " +
                  "<a href=\"monte_carlo.csv\">monte_carlo.csv</a> (every run).</p>\n<p>" +
                  html_escape(legend) + "</p>\n" + table.html("never") +
-                 (failure.empty() ? "<img src=\"histograms.png\" alt=\"histograms\">\n"
+                 (failure.empty() ? "<img src=\"distributions.png\" alt=\"distributions\">\n"
                                   : "<p>(no plot: " + html_escape(failure) + ")</p>\n") +
                  "</body></html>\n");
   return warnings;
@@ -459,7 +532,7 @@ std::vector<MonteCarloSummary> summarise_monte_carlo(const ComparePlan& plan,
       s.settled += r.metrics.settle_time_s ? 1 : 0;
       s.limit_violations += r.metrics.limit_violations;
       settle.push_back(r.metrics.settle_time_s.value_or(inf));
-      e_d.push_back(r.metrics.max_abs_e_d_m);
+      e_d.push_back(r.metrics.max_abs_e_d_after_first_measurement_m);
       e_theta.push_back(r.metrics.max_abs_e_theta_rad);
     }
     if (s.runs == 0) continue;

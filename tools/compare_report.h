@@ -23,6 +23,7 @@ struct MonteCarloSummary {
   int runs = 0, settled = 0, limit_violations = 0;
   // Settle time: runs that never settle count as infinitely slow (quantiles may be infinite).
   double settle_median_s = 0.0, settle_p95_s = 0.0, settle_worst_s = 0.0;
+  // Max |e_d| after the first measurement arrived (RunMetrics): what the controller made of it.
   double max_e_d_median_m = 0.0, max_e_d_p95_m = 0.0, max_e_d_worst_m = 0.0;
   double max_e_theta_median_rad = 0.0, max_e_theta_p95_rad = 0.0, max_e_theta_worst_rad = 0.0;
 };

@@ -62,7 +62,7 @@ std::string html_escape(const std::string& text) {
 }
 
 std::string ReportTable::html(const std::string& empty_cell) const {
-  std::string out = "<table>\n<tr>";
+  std::string out = "<table class=\"sortable\">\n<tr>";
   for (const Column& c : columns_) out += "<th>" + html_escape(c.heading) + "</th>";
   out += "</tr>\n";
   for (const auto& row : rows_) {

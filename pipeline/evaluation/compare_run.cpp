@@ -34,6 +34,7 @@ nlohmann::json compare_run_json(const CompareRun& run) {
       {"settle_time_s", optional_json(m.settle_time_s)},
       {"max_abs_e_d_m", m.max_abs_e_d_m},
       {"max_abs_e_theta_rad", m.max_abs_e_theta_rad},
+      {"max_abs_e_d_after_first_measurement_m", m.max_abs_e_d_after_first_measurement_m},
       {"rms_e_d_m", optional_json(m.rms_e_d_m)},
       {"rms_e_theta_rad", optional_json(m.rms_e_theta_rad)},
       {"overshoot_e_d_m", m.overshoot_e_d_m},
@@ -68,6 +69,8 @@ CompareRun compare_run_from_json(const nlohmann::json& j, const std::string& ori
     m.settle_time_s = optional_from(j.at("settle_time_s"));
     m.max_abs_e_d_m = j.at("max_abs_e_d_m").get<double>();
     m.max_abs_e_theta_rad = j.at("max_abs_e_theta_rad").get<double>();
+    m.max_abs_e_d_after_first_measurement_m =
+        j.at("max_abs_e_d_after_first_measurement_m").get<double>();
     m.rms_e_d_m = optional_from(j.at("rms_e_d_m"));
     m.rms_e_theta_rad = optional_from(j.at("rms_e_theta_rad"));
     m.overshoot_e_d_m = j.at("overshoot_e_d_m").get<double>();

@@ -88,11 +88,16 @@ RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario) {
   m.coverage_area_m2 =
       track_area_m2(scenario.path, front_track) + track_area_m2(scenario.path, rear_track);
   std::vector<double> t, e_d, e_theta;
+  bool acting = false;  // a measurement arrived in an earlier period
   for (const TraceRow& row : run.rows) {
     t.push_back(row.t_s);
     e_d.push_back(row.truth.e_d_m);
     e_theta.push_back(row.truth.e_theta_rad);
     m.max_abs_e_d_m = std::max(m.max_abs_e_d_m, std::abs(row.truth.e_d_m));
+    if (acting)
+      m.max_abs_e_d_after_first_measurement_m =
+          std::max(m.max_abs_e_d_after_first_measurement_m, std::abs(row.truth.e_d_m));
+    if (row.measurement_arrived) acting = true;
     m.max_abs_e_theta_rad = std::max(m.max_abs_e_theta_rad, std::abs(row.truth.e_theta_rad));
     if (row.violations != 0) ++m.limit_violations;
   }
@@ -162,6 +167,7 @@ nlohmann::json summary_json(const RunMetrics& m, const RunResult& run, const Sce
   j["settled"] = m.settle_time_s.has_value();
   j["max_abs_e_d_m"] = m.max_abs_e_d_m;
   j["max_abs_e_theta_rad"] = m.max_abs_e_theta_rad;
+  j["max_abs_e_d_after_first_measurement_m"] = m.max_abs_e_d_after_first_measurement_m;
   j["rms_e_d_m"] = optional_json(m.rms_e_d_m);
   j["rms_e_theta_rad"] = optional_json(m.rms_e_theta_rad);
   j["overshoot_e_d_m"] = m.overshoot_e_d_m;

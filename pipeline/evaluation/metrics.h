@@ -16,6 +16,10 @@ struct RunMetrics {
   std::optional<double> settle_time_s;
   double max_abs_e_d_m = 0.0;
   double max_abs_e_theta_rad = 0.0;
+  // Largest |e_d| in the periods after the one in which the first measurement arrived: what the
+  // controller's commands made of the error (before, the vehicle drifts on its initial command
+  // for the camera's latency whatever the controller).
+  double max_abs_e_d_after_first_measurement_m = 0.0;
   std::optional<double> rms_e_d_m;        // after settling
   std::optional<double> rms_e_theta_rad;  // after settling
   double overshoot_e_d_m = 0.0;

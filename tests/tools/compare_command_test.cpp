@@ -24,7 +24,7 @@ seed: 5
 controllers:
   - {name: shrinking, set: {controller.kind: finite_step}}
   - {name: fixed, set: {controller.kind: finite_step, controller.finite_step.horizon: fixed}}
-  - {name: pid, set: {controller.kind: pid}}
+  - {name: pid, about: "PID, the default gains", set: {controller.kind: pid}}
 scenarios:
   - {name: table1, about: "Table 1, 1 s", set: {duration_s: 1.0}}
   - {name: table2, about: "Table 2, 1 s, pose input",
@@ -87,6 +87,19 @@ TEST_F(AgvCompareWithSuite, MergedShardsEqualTheSingleRun) {
   EXPECT_NE(page.find("plots/table2.png"), std::string::npos);
   EXPECT_NE(page.find("<td>fixed</td>"), std::string::npos);
   EXPECT_NE(read(dir_ / "merged" / "table.md").find("## table1"), std::string::npos);
+  // The score matrix comes first: each controller with its line from the suite, each cell its
+  // settle time as the table gives it; every table sorts.
+  const size_t matrix = page.find("Settle time by controller and scenario");
+  ASSERT_NE(matrix, std::string::npos);
+  EXPECT_LT(matrix, page.find("id=\"table1\""));
+  EXPECT_NE(page.find("PID, the default gains", matrix), std::string::npos);
+  const size_t pid_row = table.find("table1,pid,") + std::string("table1,pid,").size();
+  const std::string settle = table.substr(pid_row, table.find(',', pid_row) - pid_row);
+  EXPECT_NE(
+      page.find(">" + (settle.empty() ? std::string("never") : settle + " s") + "</td>", matrix),
+      std::string::npos)
+      << settle;
+  EXPECT_NE(page.find("<table class=\"sortable\">"), std::string::npos);
 }
 
 TEST_F(AgvCompareWithSuite, MergeRefusesMissingRepeatedOrForeignShards) {
@@ -114,8 +127,9 @@ TEST_F(AgvCompareWithSuite, MonteCarloReportsTheDistributionOfEveryController) {
   const auto r = run_agv("compare --quiet --suite " + path("suite.yaml") +
                          " --monte-carlo 4 --out " + path("mc"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_TRUE(fs::exists(dir_ / "mc" / "histograms.png"));
-  // monte_carlo.csv: 4 runs x 3 controllers; the summary's median of max |e_d| per controller
+  EXPECT_TRUE(fs::exists(dir_ / "mc" / "distributions.png"));
+  // monte_carlo.csv: 4 runs x 3 controllers; the summary's median of max |e_d| (after the
+  // first measurement) per controller
   // is the middle of its 4 values by nearest rank (index round(0.5 * 3) = 2 of the sorted).
   std::istringstream runs(read(dir_ / "mc" / "monte_carlo.csv"));
   std::string line;
@@ -126,8 +140,8 @@ TEST_F(AgvCompareWithSuite, MonteCarloReportsTheDistributionOfEveryController) {
     std::istringstream fields(line);
     for (std::string cell; std::getline(fields, cell, ',');) cells.push_back(cell);
     const double initial_e_d_mm = std::stod(cells[3]);
-    EXPECT_LE(std::abs(initial_e_d_mm), 20.0);  // the default suite's bound: 20 mm
-    max_e_d[cells[1]].push_back(std::stod(cells[5]));
+    EXPECT_LE(std::abs(initial_e_d_mm), 20.0);         // the default suite's bound: 20 mm
+    max_e_d[cells[1]].push_back(std::stod(cells[6]));  // after the first measurement
   }
   ASSERT_EQ(max_e_d.size(), 3u);
   std::istringstream summary(read(dir_ / "mc" / "summary.csv"));

@@ -79,8 +79,9 @@ namespace {
 // commands 0, -0.05, -0.03, 0, 0, 0, 0, 0 m/s at path speed 0.3 m/s straight on.
 // Settle 0.4333 s (re-entry between the samples at 0.4 and 0.5 s), so the RMS after settling is
 // over the samples from t = 0.5 s: e_d 1, 0.5, 0 mm -> sqrt((1 + 0.25 + 0) / 3) mm, e_theta
-// 0.01 rad. Largest lateral acceleration: the first step, 0.05 m/s in 0.1 s = 0.5 m/s^2.
-// No overshoot (e_d never crosses zero). The scenario's default bands are 2 mm / 2 deg.
+// 0.01 rad. The first measurement arrives at 0.1 s. Largest lateral acceleration: the first step,
+// 0.05 m/s in 0.1 s = 0.5 m/s^2. No overshoot (e_d never crosses zero). The scenario's default
+// bands are 2 mm / 2 deg.
 TEST(Metrics, RunMetricsOfAHandMadeTrace) {
   Scenario scenario;
   scenario.path = control::Path::starting_at({-1.0, 0.0, 0.0}).add_line(5.0);  // under both wheels
@@ -94,6 +95,7 @@ TEST(Metrics, RunMetricsOfAHandMadeTrace) {
     row.truth.e_d_m = e_d[i];
     row.truth.e_theta_rad = 0.01;
     row.output.command = {0.3, vy[i], 0.0};
+    row.measurement_arrived = i >= 1;  // the first measurement arrives at 0.1 s
     row.front_wheel = {0.3 * row.t_s + 0.2, e_d[i]};
     row.rear_wheel = {0.3 * row.t_s - 0.2, e_d[i]};
     run.rows.push_back(row);
@@ -105,6 +107,8 @@ TEST(Metrics, RunMetricsOfAHandMadeTrace) {
   EXPECT_NEAR(*m.rms_e_d_m, 1e-3 * std::sqrt(1.25 / 3.0), 1e-12);
   EXPECT_NEAR(*m.rms_e_theta_rad, 0.01, 1e-12);
   EXPECT_DOUBLE_EQ(m.max_abs_e_d_m, 0.010);
+  // From the period after the first measurement on: 3, 1.5, 2.5, ... mm.
+  EXPECT_DOUBLE_EQ(m.max_abs_e_d_after_first_measurement_m, 0.003);
   EXPECT_DOUBLE_EQ(m.overshoot_e_d_m, 0.0);
   EXPECT_NEAR(m.max_abs_v_lateral_m_s, 0.05, 1e-12);
   EXPECT_NEAR(m.max_abs_accel_m_s2, 0.5, 1e-9);
