@@ -30,25 +30,33 @@ void add_piece(Path* path, double curvature_1_m, double length_m) {
   }
 }
 
-// The perceived path in the path frame: from the foot point (origin) along +x with the
-// estimate's curvature, and where the camera previews a change, on from there with the
-// curvature ahead; `length_m` in all (arcs: at most three quarters of a circle each).
-Path local_path(const TrackingEstimate& e, double length_m) {
+// The perceived path in the path frame: through the foot point (origin) along +x with the
+// estimate's curvature, from behind_m behind it (the tape the vehicle has passed, whose
+// curvature is taken to be the same: the rear wheel runs there) to ahead_m ahead, and where the
+// camera previews a change, on from there with the curvature ahead (arcs: at most three
+// quarters of a circle each). The foot point lies at arc length behind_m.
+Path local_path(const TrackingEstimate& e, double behind_m, double ahead_m) {
   auto capped = [](double curvature_1_m, double piece_m) {
     return std::abs(curvature_1_m) > 1e-9
                ? std::min(piece_m, 1.5 * std::numbers::pi / std::abs(curvature_1_m))
                : piece_m;
   };
-  Path path = Path::starting_at({0.0, 0.0, 0.0});
-  const double change_m = std::isfinite(e.curvature_change_m) ? e.curvature_change_m : length_m;
+  const double change_m = std::isfinite(e.curvature_change_m) ? e.curvature_change_m : ahead_m;
+  const double here_1_m = change_m <= 1e-3 ? e.curvature_ahead_1_m : e.curvature_1_m;
+  // The point behind_m back along the arc of curvature k through the origin, heading 0.
+  const double k = here_1_m, turned_rad = k * behind_m;
+  const Pose2 start = std::abs(k) > 1e-9 ? Pose2{-std::sin(turned_rad) / k,
+                                                 (1.0 - std::cos(turned_rad)) / k, -turned_rad}
+                                         : Pose2{-behind_m, 0.0, 0.0};
+  Path path = Path::starting_at(start);
   if (change_m <= 1e-3) {
-    add_piece(&path, e.curvature_ahead_1_m, capped(e.curvature_ahead_1_m, length_m));
+    add_piece(&path, here_1_m, capped(here_1_m, behind_m + ahead_m));
     return path;
   }
-  const double first_m = std::min(change_m, capped(e.curvature_1_m, length_m));
-  add_piece(&path, e.curvature_1_m, first_m);
-  if (first_m == change_m && first_m < length_m)
-    add_piece(&path, e.curvature_ahead_1_m, capped(e.curvature_ahead_1_m, length_m - first_m));
+  const double first_m = std::min(behind_m + change_m, capped(here_1_m, behind_m + ahead_m));
+  add_piece(&path, here_1_m, first_m);
+  if (first_m == behind_m + change_m && change_m < ahead_m)
+    add_piece(&path, e.curvature_ahead_1_m, capped(e.curvature_ahead_1_m, ahead_m - change_m));
   return path;
 }
 
@@ -93,9 +101,11 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
   const bool use_plan = o.planned_path && std::isfinite(remaining_m);
   // Roll-outs stay within this much arc length of the foot point.
   const double search_window_m = 0.5 + horizon_s * limits.v_forward_max_m_s + o.lookahead_m;
-  const Path local = use_plan ? Path() : local_path(estimate, 2.0 * search_window_m);
+  // Behind the foot point: as far as the rear wheel reaches, and a margin.
+  const double behind_m = std::max(std::abs(o.front_wheel_x_m), std::abs(o.rear_wheel_x_m)) + 0.2;
+  const Path local = use_plan ? Path() : local_path(estimate, behind_m, 2.0 * search_window_m);
   const Path& path = use_plan ? *o.planned_path : local;
-  const double foot_s_m = use_plan ? std::max(0.0, path.length_m() - remaining_m) : 0.0;
+  const double foot_s_m = use_plan ? std::max(0.0, path.length_m() - remaining_m) : behind_m;
   const double end_s_m = use_plan ? path.length_m() : remaining_m;
   const Eigen::Vector2d foot = path.point_at(foot_s_m);
   const double foot_heading_rad = path.heading_at(foot_s_m);
@@ -115,9 +125,10 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
       if (o.rear_steers && std::atan2(std::abs(rear_vy), v) > o.max_steer_rad) return std::nullopt;
     }
     Candidate c{v, w};
-    Pose2 pose = vehicle_in_path;
-    double s_hint_m = foot_s_m;
-    for (int k = 1; k <= steps; ++k) {
+    Pose2 pose;
+    const double s_hint_m = foot_s_m;
+    // Plain DWA needs the roll-out's end only; improved DWA its wheels at every step.
+    for (int k = o.improved ? 1 : steps; k <= steps; ++k) {
       pose = integrate_twist(vehicle_in_path, {v, 0.0, w}, k * ts);
       if (o.improved) {
         const double front_m =
