@@ -19,6 +19,15 @@ ControlContext seed002_context() {
   return c;
 }
 
+// The default vehicle limits at 0.3 m/s along the path, turning at w0_rad_s.
+ControlContext default_context(double w0_rad_s) {
+  ControlContext c;
+  c.ts_s = 0.1;
+  c.path_speed_m_s = 0.3;
+  c.previous_command = {0.3, 0.0, w0_rad_s};
+  return c;
+}
+
 // The command lies in the dynamic window: |v - v0| <= a Ts, |w - w0| <= alpha Ts, vy = 0.
 // 20 mm left of a straight path, heading along it, the best roll-out turns right, towards it.
 TEST(DwaController, StaysInTheWindowAndTurnsTowardsThePath) {
@@ -65,10 +74,7 @@ TEST(DwaController, OnAnArcTheBestRollOutStaysOnIt) {
     DwaController::Options options;
     options.improved = improved;
     DwaController dwa(options);
-    ControlContext c;
-    c.ts_s = 0.1;
-    c.path_speed_m_s = 0.3;
-    c.previous_command = {0.3, 0.0, 0.3};
+    const ControlContext c = default_context(0.3);
     TrackingEstimate e;
     e.curvature_1_m = 1.0;
     const ControllerOutput out = dwa.update(e, c);
@@ -82,10 +88,7 @@ TEST(DwaController, OnAnArcTheBestRollOutStaysOnIt) {
 // v / R.
 TEST(DwaController, APreviewedLineAheadUnwindsTheTurn) {
   DwaController dwa(DwaController::Options{});
-  ControlContext c;
-  c.ts_s = 0.1;
-  c.path_speed_m_s = 0.3;
-  c.previous_command = {0.3, 0.0, 0.3};
+  const ControlContext c = default_context(0.3);
   TrackingEstimate e;
   e.curvature_1_m = 1.0;
   EXPECT_NEAR(dwa.update(e, c).command.wz_rad_s, 0.3, 0.004);
@@ -104,10 +107,7 @@ TEST(DwaController, SteeredWheelsNarrowTheWindow) {
     options.improved = improved;
     options.max_steer_rate_rad_s = 1.0;
     DwaController dwa(options);
-    ControlContext c;
-    c.ts_s = 0.1;
-    c.path_speed_m_s = 0.3;
-    c.previous_command = {0.3, 0.0, 0.0};
+    const ControlContext c = default_context(0.0);
     TrackingEstimate e;
     e.e_theta_rad = 0.3;  // wants a hard right turn
     const ControllerOutput out = dwa.update(e, c);
