@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "common/angles.h"
 
@@ -119,11 +120,8 @@ double PathSegment::closest_s(const Eigen::Vector2d& p) const {
   return (p - point_at(length_m)).norm() < (p - start).norm() ? length_m : 0.0;
 }
 
-Path::Path(std::vector<PathSegment> segments) : segments_(std::move(segments)) {
-  for (const PathSegment& segment : segments_) {
-    segment_start_s_m_.push_back(total_length_m_);
-    total_length_m_ += segment.length_m;
-  }
+Path::Path(std::vector<PathSegment> segments) {
+  for (PathSegment& segment : segments) append(std::move(segment));
   if (!segments_.empty()) {
     start_pose_ = {segments_.front().start.x(), segments_.front().start.y(),
                    segments_.front().start_heading_rad};
@@ -139,7 +137,46 @@ Path Path::starting_at(const Pose2& start) {
 void Path::append(PathSegment segment) {
   segment_start_s_m_.push_back(total_length_m_);
   total_length_m_ += segment.length_m;
+  Geometry g;
+  const double end_heading_rad = segment.end_heading_rad();
+  g.along_start = unit(segment.start_heading_rad);
+  g.left_start = left_normal(segment.start_heading_rad);
+  g.along_end = unit(end_heading_rad);
+  g.left_end = left_normal(end_heading_rad);
+  g.end = segment.end();
+  if (!segment.hermite && std::abs(segment.curvature_1_m) >= kStraightCurvature_1_m) {
+    g.radius_m = 1.0 / std::abs(segment.curvature_1_m);
+    g.centre = segment.start + (1.0 / segment.curvature_1_m) * g.left_start;
+  }
+  geometry_.push_back(g);
   segments_.push_back(std::move(segment));
+}
+
+std::pair<double, Eigen::Vector2d> Path::closest_on(int i, const Eigen::Vector2d& p) const {
+  const PathSegment& segment = segments_[i];
+  if (segment.hermite) {
+    const double s_m = segment.closest_s(p);
+    return {s_m, segment.point_at(s_m)};
+  }
+  const Geometry& g = geometry_[i];
+  if (g.radius_m == 0.0) {  // a line
+    const double s_m = std::clamp((p - segment.start).dot(g.along_start), 0.0, segment.length_m);
+    return {s_m, segment.start + s_m * g.along_start};
+  }
+  // An arc: the ray from its centre through p, where it lies within the arc; else the nearer end
+  // (PathSegment::closest_s, without the trigonometry of point_at).
+  const Eigen::Vector2d to_p = p - g.centre;
+  const double to_p_m = to_p.norm();
+  if (to_p_m < 1e-12) return {0.0, segment.start};
+  const Eigen::Vector2d to_start = segment.start - g.centre;
+  const double swept_rad =
+      std::atan2(to_start.x() * to_p.y() - to_start.y() * to_p.x(), to_start.dot(to_p));
+  double s_m = swept_rad / segment.curvature_1_m;
+  if (s_m < 0.0) s_m += 2.0 * std::numbers::pi * g.radius_m;
+  if (s_m <= segment.length_m) return {s_m, g.centre + (g.radius_m / to_p_m) * to_p};
+  return (p - g.end).norm() < (p - segment.start).norm()
+             ? std::pair<double, Eigen::Vector2d>{segment.length_m, g.end}
+             : std::pair<double, Eigen::Vector2d>{0.0, segment.start};
 }
 
 Pose2 Path::end_pose() const {
@@ -216,8 +253,7 @@ PathProjection Path::project(const Eigen::Vector2d& p, std::optional<double> s_h
     const double s0 = segment_start_s_m_[i];
     const double s1 = s0 + segments_[i].length_m;
     if (s_hint_m && (s1 < *s_hint_m - window_m || s0 > *s_hint_m + window_m)) continue;
-    const double local_s = segments_[i].closest_s(p);
-    const Eigen::Vector2d foot = segments_[i].point_at(local_s);
+    const auto [local_s, foot] = closest_on(i, p);
     const double distance_m = (p - foot).norm();
     if (distance_m < best_distance_m) {
       best_distance_m = distance_m;
@@ -232,8 +268,24 @@ PathProjection Path::project(const Eigen::Vector2d& p, std::optional<double> s_h
   best.heading_rad = segment.heading_at(local_s);
   best.curvature_1_m = segment.curvature_at(local_s);
   best.distance_m = best_distance_m;
-  best.lateral_m = (p - best.point).dot(left_normal(best.heading_rad));
-  const double along_m = (p - best.point).dot(unit(best.heading_rad));
+  // Left and along at the foot: cached at a line's points and at any segment's ends; an arc's
+  // inner points from its centre; a Hermite piece's from its heading.
+  const Geometry& g = geometry_[best.segment];
+  Eigen::Vector2d left, along;
+  if (segment.hermite && local_s > 0.0 && local_s < segment.length_m) {
+    left = left_normal(best.heading_rad);
+    along = unit(best.heading_rad);
+  } else if (g.radius_m > 0.0 && local_s > 0.0 && local_s < segment.length_m) {
+    const Eigen::Vector2d outward = (best.point - g.centre) / g.radius_m;
+    left = segment.curvature_1_m > 0.0 ? Eigen::Vector2d(-outward) : outward;
+    along = Eigen::Vector2d(left.y(), -left.x());
+  } else {
+    const bool at_end = local_s >= segment.length_m && segment.length_m > 0.0;
+    left = at_end ? g.left_end : g.left_start;
+    along = at_end ? g.along_end : g.along_start;
+  }
+  best.lateral_m = (p - best.point).dot(left);
+  const double along_m = (p - best.point).dot(along);
   best.before_start = best.s_m <= 0.0 && along_m < 0.0;
   best.after_end = best.s_m >= total_length_m_ && along_m > 0.0;
   return best;

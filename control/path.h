@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "common/pose2.h"
@@ -89,10 +90,21 @@ class Path {
   TrackingError tracking_error(const Pose2& vehicle, const PathProjection& foot) const;
 
  private:
+  // What project() needs of a line or an arc without trigonometry, computed once per segment:
+  // unit vectors along and to the left at both ends, the end point, an arc's centre and radius.
+  struct Geometry {
+    Eigen::Vector2d along_start = Eigen::Vector2d::Zero(), left_start = Eigen::Vector2d::Zero();
+    Eigen::Vector2d along_end = Eigen::Vector2d::Zero(), left_end = Eigen::Vector2d::Zero();
+    Eigen::Vector2d end = Eigen::Vector2d::Zero(), centre = Eigen::Vector2d::Zero();
+    double radius_m = 0.0;
+  };
+  // The nearest point of segment i to p: arc length on the segment and the point.
+  std::pair<double, Eigen::Vector2d> closest_on(int i, const Eigen::Vector2d& p) const;
   int segment_index_at(double s_m) const;
   void append(PathSegment segment);
 
   std::vector<PathSegment> segments_;
+  std::vector<Geometry> geometry_;  // one per segment
   std::vector<double> segment_start_s_m_;
   double total_length_m_ = 0.0;
   Pose2 start_pose_;
