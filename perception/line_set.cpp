@@ -366,6 +366,14 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
       }
     }
   }
+  // A line that no chord crosses cleanly (each has one edge on another tape) is a reading of
+  // tapes that overlap; where another line shows clean tape, it is that overlap read once more
+  // (at a fork's split, the outer edges of both legs make a phantom tape a width aside).
+  const bool any_clean = std::any_of(lines.begin(), lines.end(), [&](const DetectedLine& line) {
+    return static_cast<int>(line.clean_chords.size()) >= options.min_points;
+  });
+  if (any_clean)
+    std::erase_if(lines, [](const DetectedLine& line) { return line.clean_chords.empty(); });
   return lines;
 }
 
