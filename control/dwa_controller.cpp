@@ -43,12 +43,8 @@ Path local_path(const TrackingEstimate& e, double behind_m, double ahead_m) {
   };
   const double change_m = std::isfinite(e.curvature_change_m) ? e.curvature_change_m : ahead_m;
   const double here_1_m = change_m <= 1e-3 ? e.curvature_ahead_1_m : e.curvature_1_m;
-  // The point behind_m back along the arc of curvature k through the origin, heading 0.
-  const double k = here_1_m, turned_rad = k * behind_m;
-  const Pose2 start = std::abs(k) > 1e-9 ? Pose2{-std::sin(turned_rad) / k,
-                                                 (1.0 - std::cos(turned_rad)) / k, -turned_rad}
-                                         : Pose2{-behind_m, 0.0, 0.0};
-  Path path = Path::starting_at(start);
+  // Start behind_m back along the arc of that curvature through the origin (heading 0).
+  Path path = Path::starting_at(integrate_twist({0.0, 0.0, 0.0}, {1.0, 0.0, here_1_m}, -behind_m));
   if (change_m <= 1e-3) {
     add_piece(&path, here_1_m, capped(here_1_m, behind_m + ahead_m));
     return path;
@@ -126,16 +122,15 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
     }
     Candidate c{v, w};
     Pose2 pose;
-    const double s_hint_m = foot_s_m;
     // Plain DWA needs the roll-out's end only; improved DWA its wheels at every step.
     for (int k = o.improved ? 1 : steps; k <= steps; ++k) {
       pose = integrate_twist(vehicle_in_path, {v, 0.0, w}, k * ts);
       if (o.improved) {
         const double front_m =
-            path.project(pose.transform({o.front_wheel_x_m, 0.0}), s_hint_m, search_window_m)
+            path.project(pose.transform({o.front_wheel_x_m, 0.0}), foot_s_m, search_window_m)
                 .lateral_m;
         const double rear_m =
-            path.project(pose.transform({o.rear_wheel_x_m, 0.0}), s_hint_m, search_window_m)
+            path.project(pose.transform({o.rear_wheel_x_m, 0.0}), foot_s_m, search_window_m)
                 .lateral_m;
         c.area_m2 += (std::abs(front_m) + std::abs(rear_m)) / steps;
       }
@@ -145,7 +140,7 @@ ControllerOutput DwaController::update(const TrackingEstimate& estimate,
     // and the point is taken out (the chord of an arc leans by half its angle): on the path
     // and along it, the roll-out scores best whatever the curvature (uncorrected, the roll-outs
     // that cut the curve score best, and the vehicle settles that far inside it).
-    const PathProjection end_foot = path.project(pose.translation(), s_hint_m, search_window_m);
+    const PathProjection end_foot = path.project(pose.translation(), foot_s_m, search_window_m);
     const double target_s = std::min(end_foot.s_m + o.lookahead_m, std::max(0.0, end_s_m));
     const Eigen::Vector2d target = path.point_at(target_s);
     const Eigen::Vector2d to_target = target - pose.translation();

@@ -44,11 +44,14 @@ ProgressBar::~ProgressBar() {
 void ProgressBar::update(double fraction) {
   if (!enabled_ || finished_) return;
   const int percent = static_cast<int>(100.0 * std::clamp(fraction, 0.0, 1.0));
-  const double elapsed_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const std::string left = time_left_words(elapsed_s, fraction);
+  auto time_left = [&] {
+    const double elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    return time_left_words(elapsed_s, fraction);
+  };
   if (!terminal_) {  // a log: a line per tenth, the last one by finish()
     if (percent / 10 > last_percent_ / 10 && percent < 100) {
+      const std::string left = time_left();
       std::fprintf(stderr, "%s: %d%%%s%s\n", label_.c_str(), percent / 10 * 10,
                    left.empty() ? "" : ", ", left.c_str());
       last_percent_ = percent;
@@ -57,6 +60,7 @@ void ProgressBar::update(double fraction) {
   }
   if (percent == last_percent_) return;
   last_percent_ = percent;
+  const std::string left = time_left();
   constexpr int kWidth = 30;
   const int filled = percent * kWidth / 100;
   std::fprintf(stderr, "\r%s [%.*s%*s] %3d%% %-26s", label_.c_str(), filled,
