@@ -289,6 +289,14 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
     reject("edge points do not lie on one line");
     return std::nullopt;
   }
+  if (options.expected_width_m <= 0.0 && !widths.empty() &&
+      (line.width_m < options.min_width_m || line.width_m > options.max_width_m)) {
+    char why[128];
+    std::snprintf(why, sizeof(why), "width %.1f mm is no tape's (%.0f-%.0f mm)", 1e3 * line.width_m,
+                  1e3 * options.min_width_m, 1e3 * options.max_width_m);
+    reject(why);
+    return std::nullopt;
+  }
   double width_error = 0.0;
   if (options.expected_width_m > 0.0) {
     width_error = std::abs(line.width_m - options.expected_width_m) / options.expected_width_m;

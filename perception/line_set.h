@@ -36,8 +36,11 @@ struct LineSetOptions {
   int max_lines = 4;  // a crossing of tape laid in pieces needs more than 2
   int min_points = 12;
   double min_visible_length_m = 0.03;
-  double expected_width_m = 0.025;      // 0: unknown
-  double width_tolerance = 0.35;        // accepted |measured - expected| / expected
+  double expected_width_m = 0.025;  // 0: unknown
+  double width_tolerance = 0.35;    // accepted |measured - expected| / expected
+  // Without an expected width: the widths guide tape comes in (8-150 mm), with room for the
+  // measurement's error. A line of no clean chord has no width and is not checked.
+  double min_width_m = 0.006, max_width_m = 0.2;
   double width_spread_tolerance = 0.3;  // accepted 10-90 % width range / median width
   double min_inlier_fraction = 0.5;     // of the chords near the line
   double min_confidence = 0.1;

@@ -54,3 +54,30 @@ TEST(LineSet, OneEdgeWithTextureBesideItIsNoLine) {
 
 }  // namespace
 }  // namespace agv::perception
+
+namespace agv::perception {
+namespace {
+
+// Without a configured width, a "tape" 0.5 mm wide (the two sides of one edge: a glare spot's
+// rim on a textured floor) is none, whatever else it satisfies; 10 mm tape is one (guide tape
+// comes in 8-150 mm; the bounds leave room for the measurement's error).
+TEST(LineSet, WithoutAWidthOnlyATapesWidthIsALine) {
+  LineSetOptions options = options_for_45_mm_tape();
+  options.expected_width_m = 0.0;
+  for (const double width_m : {0.0005, 0.010}) {
+    const auto chords = chords_with([&](cv::RNG& rng) { return width_m + rng.gaussian(0.0001); });
+    std::vector<std::string> rejections;
+    const auto lines = extract_lines(chords, options, &rejections);
+    if (width_m < 0.006) {
+      EXPECT_TRUE(lines.empty());
+      ASSERT_FALSE(rejections.empty());
+      EXPECT_NE(rejections.front().find("is no tape's"), std::string::npos) << rejections.front();
+    } else {
+      ASSERT_EQ(lines.size(), 1u);
+      EXPECT_NEAR(lines[0].width_m, width_m, 0.0002);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace agv::perception
