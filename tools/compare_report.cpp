@@ -250,52 +250,69 @@ std::string settle_colour(double settle_s) {
 }
 
 // The score matrix: a row per controller (with its line from the suite), a column per scenario
-// of the suite (not the latency study), each cell the settle time, coloured.
-std::string score_matrix(const ComparePlan& plan, const std::vector<CompareRun>& runs, bool html) {
+// of the suite (not the latency study), each cell the settle time (coloured on the page).
+struct ScoreMatrix {
   std::vector<const pipeline::SuiteEntry*> scenarios;
-  for (const pipeline::PlannedScenario& s : plan.scenarios)
-    if (s.latency_label.empty()) scenarios.push_back(&s.entry);
-  std::map<std::pair<std::string, std::string>, const CompareRun*> by;
-  for (const CompareRun& r : runs) by[{r.controller, r.scenario}] = &r;
-  std::string out;
-  if (html) {
-    out = "<table class=\"sortable\">\n<tr><th>controller</th>";
-    for (const auto* s : scenarios)
-      out += "<th title=\"" + html_escape(s->about) + "\">" + html_escape(s->name) + "</th>";
-    out += "<th>about</th></tr>\n";
-  } else {
-    out = "| controller |";
-    for (const auto* s : scenarios) out += " " + s->name + " |";
-    out += " about |\n|---|";
-    for (size_t i = 0; i < scenarios.size(); ++i) out += "---:|";
-    out += "---|\n";
+  std::map<std::pair<std::string, std::string>, const CompareRun*> runs;  // (controller, scenario)
+
+  ScoreMatrix(const ComparePlan& plan, const std::vector<CompareRun>& all) {
+    for (const pipeline::PlannedScenario& s : plan.scenarios)
+      if (s.latency_label.empty()) scenarios.push_back(&s.entry);
+    for (const CompareRun& r : all) runs[{r.controller, r.scenario}] = &r;
   }
+  const CompareRun* run(const std::string& controller, const std::string& scenario) const {
+    const auto found = runs.find({controller, scenario});
+    return found == runs.end() ? nullptr : found->second;
+  }
+};
+
+std::string settle_words(const pipeline::RunMetrics& m) {
+  return m.settle_time_s ? fixed(*m.settle_time_s, 2) + " s" : "never";
+}
+
+std::string score_matrix_markdown(const ComparePlan& plan, const std::vector<CompareRun>& runs) {
+  const ScoreMatrix matrix(plan, runs);
+  std::vector<ReportTable::Column> columns{{"controller", "controller"}};
+  for (const auto* s : matrix.scenarios) columns.push_back({s->name, s->name});
+  columns.push_back({"about", "about"});
+  ReportTable table(columns);
   for (const pipeline::SuiteEntry& c : plan.controllers) {
-    out += html ? "<tr><td>" + html_escape(c.name) + "</td>" : "| " + c.name + " |";
-    for (const auto* s : scenarios) {
-      const auto found = by.find({c.name, s->name});
-      if (found == by.end()) {
-        out += html ? "<td class=\"score\" style=\"background:#f4f4f4\">n/a</td>" : " n/a |";
+    std::vector<std::string> cells{c.name};
+    for (const auto* s : matrix.scenarios) {
+      const CompareRun* r = matrix.run(c.name, s->name);
+      cells.push_back(r ? settle_words(r->metrics) : "n/a");
+    }
+    cells.push_back(c.about);
+    table.add_row(cells);
+  }
+  return table.markdown();
+}
+
+std::string score_matrix_html(const ComparePlan& plan, const std::vector<CompareRun>& runs) {
+  const ScoreMatrix matrix(plan, runs);
+  std::string out = "<table class=\"sortable\">\n<tr><th>controller</th>";
+  for (const auto* s : matrix.scenarios)
+    out += "<th title=\"" + html_escape(s->about) + "\">" + html_escape(s->name) + "</th>";
+  out += "<th>about</th></tr>\n";
+  for (const pipeline::SuiteEntry& c : plan.controllers) {
+    out += "<tr><td>" + html_escape(c.name) + "</td>";
+    for (const auto* s : matrix.scenarios) {
+      const CompareRun* r = matrix.run(c.name, s->name);
+      if (!r) {
+        out += "<td class=\"score\" style=\"background:#f4f4f4\">n/a</td>";
         continue;
       }
-      const pipeline::RunMetrics& m = found->second->metrics;
-      const std::string text = m.settle_time_s ? fixed(*m.settle_time_s, 2) + " s" : "never";
-      if (!html) {
-        out += " " + text + " |";
-        continue;
-      }
+      const pipeline::RunMetrics& m = r->metrics;
       const std::string style = m.settle_time_s ? "background:" + settle_colour(*m.settle_time_s)
                                                 : "background:#a00;color:#fff";
-      out += "<td class=\"score\" style=\"" + style +
-             "\" title=\"max abs e_d after the 1st "
-             "measurement " +
-             fixed(1e3 * m.max_abs_e_d_after_first_measurement_m, 2) + " mm, limit violations " +
-             std::to_string(m.limit_violations) + "\">" + text + "</td>";
+      out += "<td class=\"score\" style=\"" + style + "\" title=\"max abs e_d after the 1st " +
+             "measurement " + fixed(1e3 * m.max_abs_e_d_after_first_measurement_m, 2) +
+             " mm, limit violations " + std::to_string(m.limit_violations) + "\">" +
+             settle_words(m) + "</td>";
     }
-    out += html ? "<td class=\"about\">" + html_escape(c.about) + "</td></tr>\n"
-                : " " + c.about + " |\n";
+    out += "<td class=\"about\">" + html_escape(c.about) + "</td></tr>\n";
   }
-  return out + (html ? "</table>\n" : "");
+  return out + "</table>\n";
 }
 
 std::string plan_heading(const ComparePlan& plan, size_t runs) {
@@ -325,7 +342,7 @@ std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePl
 
   std::string md = "# agv compare: " + plan_heading(plan, runs.size()) + "\n\n" +
                    "## Settle time by controller and scenario\n\n" +
-                   score_matrix(plan, runs, false) + "\n" + legend + "\n\n";
+                   score_matrix_markdown(plan, runs) + "\n" + legend + "\n\n";
   std::string html = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>agv compare: " +
                      html_escape(plan.suite_name) + "</title>\n" + kStyle + "</head><body>\n" +
                      "<h1>agv compare</h1>\n<p>" + html_escape(build_words()) + "</p>\n<p>" +
@@ -333,7 +350,7 @@ std::vector<std::string> write_suite_report(const fs::path& dir, const ComparePl
                      ". Tables: <a href=\"table.md\">table.md</a>, <a href=\"table.csv\">" +
                      "table.csv</a>; traces: series/*.csv.</p>\n" +
                      "<h2>Settle time by controller and scenario</h2>\n" +
-                     score_matrix(plan, runs, true) + "<p>" + html_escape(legend) +
+                     score_matrix_html(plan, runs) + "<p>" + html_escape(legend) +
                      " Green: settled at once; red: 3 s or more; dark red: never. A cell's tooltip "
                      "gives the largest lateral error once the first measurement arrived; a "
                      "scenario's, what it is. Click a column's header to sort.</p>\n";
