@@ -263,9 +263,12 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
     for (int k = 0; k < 6; ++k)
       candidates.push_back(std::cos(k * CV_PI / 3) * u1 + std::sin(k * CV_PI / 3) * u2);
   }
+  // Candidates ranked on their histograms' levels; the winner's tape contrast (which scales the
+  // axis) from the exact order statistics of its response.
   double best_score = 0.0;
-  std::optional<ContrastAxis> best;
-  cv::Mat response, combined;
+  std::optional<size_t> best;
+  cv::Vec3d best_d;
+  cv::Mat response, combined, best_response;
   for (size_t k = 0; k < candidates.size(); ++k) {
     cv::Vec3d d = candidates[k];
     if (channels == 1) d = cv::Vec3d::all((d[0] + d[1] + d[2]) / 3.0);
@@ -292,26 +295,38 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
     // Contrast over noise, the noise at least the sensor's few grey levels (a colour axis along
     // which nothing varies is not for that a good one); the tape must stand out by 20 levels.
     // The hint is what the user knows: it wins ties.
-    constexpr float kSensorNoise = 5.0f, kMinContrast = 20.0f;
+    constexpr double kSensorNoise = 5.0, kMinContrast = 20.0;
     const double score =
         (peak - middle) / std::hypot(spread, kSensorNoise) * (tape_hint_bgr && k == 0 ? 1.2 : 1.0);
     if (score > best_score && peak - middle >= kMinContrast) {
       best_score = score;
-      ContrastAxis axis;
-      const double level = peak - middle;  // the tape's contrast along d, about
-      if (channels == 1) {
-        axis.weights = cv::Vec3f(static_cast<float>(d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
-        axis.offset = static_cast<float>(-floor[0] * d[0] * std::sqrt(3.0) / level);
-      } else {
-        const cv::Vec3d w = d / level;
-        axis.weights = cv::Vec3f(w);
-        axis.offset = static_cast<float>(-w.dot(floor));
-      }
-      axis.from_hint = tape_hint_bgr && k == 0;
-      best = axis;
+      best = k;
+      best_d = d;
+      std::swap(best_response, response);
     }
   }
-  return best;
+  if (!best) return std::nullopt;
+  // The tape's contrast along d, about: the response's 99.5 % point above its median (the
+  // elements a full sort puts at floor(q n)).
+  std::vector<float> values(best_response.begin<float>(), best_response.end<float>());
+  auto order_statistic = [&](double q) {
+    const auto at =
+        values.begin() + std::min(values.size() - 1, static_cast<size_t>(q * values.size()));
+    std::nth_element(values.begin(), at, values.end());
+    return static_cast<double>(*at);
+  };
+  const double level = order_statistic(0.995) - order_statistic(0.5);
+  ContrastAxis axis;
+  if (channels == 1) {
+    axis.weights = cv::Vec3f(static_cast<float>(best_d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
+    axis.offset = static_cast<float>(-floor[0] * best_d[0] * std::sqrt(3.0) / level);
+  } else {
+    const cv::Vec3d w = best_d / level;
+    axis.weights = cv::Vec3f(w);
+    axis.offset = static_cast<float>(-w.dot(floor));
+  }
+  axis.from_hint = tape_hint_bgr && *best == 0;
+  return axis;
 }
 
 }  // namespace agv::perception
