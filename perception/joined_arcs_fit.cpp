@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -25,42 +26,110 @@ Eigen::Vector4d basis(double x, std::optional<double> xb) {
   return r;
 }
 
+// The solution of the normal equations (a'a) c = a'y over the first n_params unknowns.
+Eigen::Vector4d solve_normal(const Eigen::Matrix4d& ata, const Eigen::Vector4d& aty, int n_params) {
+  Eigen::Vector4d c = Eigen::Vector4d::Zero();
+  if (n_params == 3) {
+    c.head<3>() = ata.topLeftCorner<3, 3>().ldlt().solve(aty.head<3>());
+  } else {
+    c = ata.ldlt().solve(aty);
+  }
+  return c;
+}
+
 // Least squares of the model over the points marked; without a breakpoint, k2 = k1 (three
-// unknowns). The residual sum of squares summed over the points (exact), or, to rank
-// breakpoints, from the normal equations, y'y - c'A'y, in the same pass (rounding: about 1e-16
-// of y'y).
+// unknowns). The residual sum of squares summed over the points.
 Solved solve(const std::vector<Eigen::Vector2d>& p, const std::vector<bool>& use,
-             std::optional<double> xb, bool exact_rss = true) {
+             std::optional<double> xb) {
   const int n_params = xb ? 4 : 3;
   Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
   Eigen::Vector4d aty = Eigen::Vector4d::Zero();
-  double yty = 0.0;
   int used = 0;
   for (size_t i = 0; i < p.size(); ++i) {
     if (!use[i]) continue;
     const Eigen::Vector4d r = basis(p[i].x(), xb);
     ata += r * r.transpose();
     aty += r * p[i].y();
-    yty += p[i].y() * p[i].y();
     ++used;
   }
   Solved s;
   if (used < n_params + 2) return s;
-  const Eigen::MatrixXd a = ata.topLeftCorner(n_params, n_params);
-  const Eigen::VectorXd solution = a.ldlt().solve(aty.head(n_params));
-  s.c.head(n_params) = solution;
+  s.c = solve_normal(ata, aty, n_params);
   if (!xb) s.c[3] = s.c[2];
-  if (!exact_rss) {
-    s.rss = std::max(0.0, yty - solution.dot(aty.head(n_params)));
-    return s;
-  }
   s.rss = 0.0;
   for (size_t i = 0; i < p.size(); ++i) {
     if (!use[i]) continue;
-    const double r = basis(p[i].x(), xb).head(n_params).dot(solution) - p[i].y();
+    const double r = basis(p[i].x(), xb).dot(s.c) - p[i].y();
     s.rss += r * r;
   }
   return s;
+}
+
+// The breakpoints lo + min_piece, then every breakpoint_step, up to hi - min_piece, ranked by
+// their residual from the normal equations, y'y - c'a'y. The points beyond a breakpoint add h =
+// (x - xb)^2 / 2 terms whose sums are polynomials in xb over the moments of those points (sums
+// of x^0..x^4 and x^0..x^2 y), kept as suffix sums over the points sorted by x: each breakpoint
+// costs a 4 x 4 solve, not a pass over the points. Nullopt when none leaves each piece enough.
+std::optional<double> best_breakpoint(const std::vector<Eigen::Vector2d>& p,
+                                      const std::vector<bool>& use, double lo, double hi,
+                                      const JoinedArcsOptions& options) {
+  std::vector<const Eigen::Vector2d*> sorted;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (use[i]) sorted.push_back(&p[i]);
+  std::sort(sorted.begin(), sorted.end(),
+            [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
+  const size_t n = sorted.size();
+  if (n < 6) return std::nullopt;
+  // suffix[j]: the moments of sorted[j..n): x^0..x^4 (0-4), x^0..x^2 y (5-7).
+  std::vector<std::array<double, 8>> suffix(n + 1, std::array<double, 8>{});
+  for (size_t j = n; j-- > 0;) {
+    const double x = sorted[j]->x(), y = sorted[j]->y();
+    const double powers[5] = {1.0, x, x * x, x * x * x, x * x * x * x};
+    for (int k = 0; k < 5; ++k) suffix[j][k] = suffix[j + 1][k] + powers[k];
+    for (int k = 0; k < 3; ++k) suffix[j][5 + k] = suffix[j + 1][5 + k] + powers[k] * y;
+  }
+  // The model without a breakpoint's sums: r0 = (1, x, x^2 / 2).
+  const std::array<double, 8>& all = suffix[0];
+  double yty = 0.0;
+  for (const Eigen::Vector2d* q : sorted) yty += q->y() * q->y();
+  Eigen::Matrix4d g0 = Eigen::Matrix4d::Zero();
+  g0(0, 0) = all[0];
+  g0(0, 1) = g0(1, 0) = all[1];
+  g0(1, 1) = all[2];
+  g0(0, 2) = g0(2, 0) = 0.5 * all[2];
+  g0(1, 2) = g0(2, 1) = 0.5 * all[3];
+  g0(2, 2) = 0.25 * all[4];
+  std::optional<double> best;
+  double best_rss = std::numeric_limits<double>::infinity();
+  size_t first = 0;  // sorted[first..n) lie beyond the breakpoint (x > xb)
+  for (double xb = lo + options.min_piece_m; xb <= hi - options.min_piece_m;
+       xb += options.breakpoint_step_m) {
+    while (first < n && sorted[first]->x() <= xb) ++first;
+    const std::array<double, 8>& m = suffix[first];
+    const double b1 = xb, b2 = xb * xb, b3 = b2 * xb, b4 = b2 * b2;
+    const double s_h = 0.5 * (m[2] - 2.0 * b1 * m[1] + b2 * m[0]);
+    const double s_hx = 0.5 * (m[3] - 2.0 * b1 * m[2] + b2 * m[1]);
+    const double s_hx2 = 0.25 * (m[4] - 2.0 * b1 * m[3] + b2 * m[2]);  // sum of h x^2 / 2
+    const double s_hh =
+        0.25 * (m[4] - 4.0 * b1 * m[3] + 6.0 * b2 * m[2] - 4.0 * b3 * m[1] + b4 * m[0]);
+    const double s_hy = 0.5 * (m[7] - 2.0 * b1 * m[6] + b2 * m[5]);
+    Eigen::Matrix4d ata = g0;
+    ata(0, 2) = ata(2, 0) = g0(0, 2) - s_h;
+    ata(1, 2) = ata(2, 1) = g0(1, 2) - s_hx;
+    ata(2, 2) = g0(2, 2) - 2.0 * s_hx2 + s_hh;
+    ata(0, 3) = ata(3, 0) = s_h;
+    ata(1, 3) = ata(3, 1) = s_hx;
+    ata(2, 3) = ata(3, 2) = s_hx2 - s_hh;
+    ata(3, 3) = s_hh;
+    const Eigen::Vector4d aty(all[5], all[6], 0.5 * all[7] - s_hy, s_hy);
+    const Eigen::Vector4d c = solve_normal(ata, aty, 4);
+    const double rss = std::max(0.0, yty - c.dot(aty));
+    if (rss < best_rss) {
+      best_rss = rss;
+      best = xb;
+    }
+  }
+  return best;
 }
 
 // The best model over the points marked: one piece, or two with the breakpoint that leaves the
@@ -79,16 +148,8 @@ std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vec
   }
   Solved best = solve(p, use, std::nullopt);
   std::optional<double> best_xb;
+  const std::optional<double> two_xb = best_breakpoint(p, use, lo, hi, options);
   Solved two;
-  std::optional<double> two_xb;
-  for (double xb = lo + options.min_piece_m; xb <= hi - options.min_piece_m;
-       xb += options.breakpoint_step_m) {
-    const Solved s = solve(p, use, xb, /*exact_rss=*/false);
-    if (s.rss < two.rss) {
-      two = s;
-      two_xb = xb;
-    }
-  }
   if (two_xb) two = solve(p, use, two_xb);  // the breakpoint chosen, its residual exact
   const double floor_rss = 1e-18 * n;       // noise-free points: no log of zero
   if (two_xb && n > 6 &&

@@ -4,11 +4,105 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "common/angles.h"
 #include "perception/joined_arcs_fit.h"
 
 namespace agv::perception {
+
+namespace {
+
+// The evidence points by cells of the neighbourhood's size: the points within it of any place
+// lie in the 3 x 3 cells around that place's cell. Each point's local line (mean and normal of
+// the evidence within the neighbourhood) is worked out once, when first asked for.
+class EvidenceIndex {
+ public:
+  struct LocalLine {
+    bool valid = false;  // 3 or more points in the neighbourhood
+    Eigen::Vector2d mean, normal;
+  };
+
+  EvidenceIndex(const std::vector<Eigen::Vector2d>& evidence, double neighbourhood_m)
+      : evidence_(evidence),
+        cell_m_(neighbourhood_m),
+        lines_(evidence.size()),
+        computed_(evidence.size(), false) {
+    for (size_t j = 0; j < evidence.size(); ++j) cells_.emplace_back(key(evidence[j]), j);
+    std::sort(cells_.begin(), cells_.end());
+  }
+
+  // The index of the evidence point nearest to p (the lowest index among equals), if it lies
+  // within the neighbourhood.
+  std::optional<size_t> nearest(const Eigen::Vector2d& p) const {
+    std::optional<size_t> found;
+    double best = 0.0;
+    for_each_near(p, [&](size_t j) {
+      const double d2 = (evidence_[j] - p).squaredNorm();
+      if (d2 > cell_m_ * cell_m_) return;
+      if (!found || d2 < best || (d2 == best && j < *found)) {
+        best = d2;
+        found = j;
+      }
+    });
+    return found;
+  }
+
+  const LocalLine& line_at(size_t j) {
+    if (!computed_[j]) {
+      computed_[j] = true;
+      std::vector<size_t> near;
+      for_each_near(evidence_[j], [&](size_t k) {
+        if ((evidence_[k] - evidence_[j]).squaredNorm() <= cell_m_ * cell_m_) near.push_back(k);
+      });
+      if (near.size() >= 3) {
+        std::sort(near.begin(), near.end());  // sums in the evidence's order
+        Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+        Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+        for (size_t k : near) {
+          mean += evidence_[k];
+          scatter += evidence_[k] * evidence_[k].transpose();
+        }
+        mean /= static_cast<double>(near.size());
+        scatter = scatter / static_cast<double>(near.size()) - mean * mean.transpose();
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
+        lines_[j] = {true, mean, eigen.eigenvectors().col(0)};  // least spread: across the tape
+      }
+    }
+    return lines_[j];
+  }
+
+ private:
+  std::pair<long long, long long> cell(const Eigen::Vector2d& p) const {
+    return {static_cast<long long>(std::floor(p.x() / cell_m_)),
+            static_cast<long long>(std::floor(p.y() / cell_m_))};
+  }
+  static long long key(long long cx, long long cy) { return cx * 2000003LL + cy; }
+  long long key(const Eigen::Vector2d& p) const {
+    const auto [cx, cy] = cell(p);
+    return key(cx, cy);
+  }
+  template <typename F>
+  void for_each_near(const Eigen::Vector2d& p, F f) const {
+    const auto [cx, cy] = cell(p);
+    for (long long dx = -1; dx <= 1; ++dx) {
+      for (long long dy = -1; dy <= 1; ++dy) {
+        const long long k = key(cx + dx, cy + dy);
+        auto it = std::lower_bound(cells_.begin(), cells_.end(), std::make_pair(k, size_t{0}));
+        for (; it != cells_.end() && it->first == k; ++it) f(it->second);
+      }
+    }
+  }
+
+  const std::vector<Eigen::Vector2d>& evidence_;
+  double cell_m_;
+  std::vector<std::pair<long long, size_t>> cells_;  // (cell key, evidence index), sorted
+  std::vector<LocalLine> lines_;
+  std::vector<bool> computed_;
+};
+
+}  // namespace
+
 namespace {
 
 // The curve through point p0 with direction heading0 and curvature k, as the model of the vehicle
@@ -95,34 +189,15 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence,
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
   int count = 0;
+  EvidenceIndex index(evidence, options_.neighbourhood_m);
   for (const Eigen::Vector2d& p : *in_vehicle) {
-    size_t nearest = 0;
-    double best = std::numeric_limits<double>::infinity();
-    for (size_t j = 0; j < evidence.size(); ++j) {
-      const double d2 = (evidence[j] - p).squaredNorm();
-      if (d2 < best) {
-        best = d2;
-        nearest = j;
-      }
-    }
-    if (best > options_.neighbourhood_m * options_.neighbourhood_m) continue;
+    const std::optional<size_t> nearest = index.nearest(p);
+    if (!nearest) continue;
     // The local direction of the evidence: its points within the neighbourhood of the nearest.
-    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-    int near = 0;
-    for (const Eigen::Vector2d& e : evidence) {
-      if ((e - evidence[nearest]).squaredNorm() >
-          options_.neighbourhood_m * options_.neighbourhood_m)
-        continue;
-      mean += e;
-      scatter += e * e.transpose();
-      ++near;
-    }
-    if (near < 3) continue;
-    mean /= near;
-    scatter = scatter / near - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
-    const Eigen::Vector2d normal = eigen.eigenvectors().col(0);  // least spread: across the tape
+    const EvidenceIndex::LocalLine& local = index.line_at(*nearest);
+    if (!local.valid) continue;
+    const Eigen::Vector2d& mean = local.mean;
+    const Eigen::Vector2d& normal = local.normal;
     const double d = normal.dot(p - mean);
     if (std::abs(d) > options_.gate_m) continue;
     const Eigen::Vector3d j(normal.dot(Eigen::Vector2d(-p.y(), p.x())), normal.x(), normal.y());

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <cmath>
 #include <random>
 
@@ -43,6 +45,50 @@ TEST(JoinedArcsFit, FindsTheJointBetweenALineAndAnArc) {
   EXPECT_NEAR(fit->curvature_1_m, 0.0, 0.3);  // vs 2.0 on the arc
   EXPECT_NEAR(fit->curvature_far_1_m, k, 0.4);
   EXPECT_LT(fit->rms_m, 8e-5);
+}
+
+// The breakpoint chosen is the one of the grid (every 4 mm from 10 mm past the first point to 10
+// mm before the last) whose two-piece least squares leaves the least residual, the residual
+// here computed independently for each breakpoint by a QR least squares over the design matrix
+// (the fit ranks them from running sums of the points' moments). Points without outliers
+// (uniform noise: none is 4 robust sigmas off), so the fit keeps them all; arcs joined at
+// several places and curvatures, the joint off the grid.
+TEST(JoinedArcsFit, TheBreakpointIsTheGridsLeastSquaresBest) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> noise(-3e-5, 3e-5);
+  int two_piece = 0;
+  for (const double joint : {-0.021, 0.0037, 0.0185, 0.033}) {
+    for (const double k : {-3.0, 1.2, 6.0}) {
+      std::vector<Eigen::Vector2d> points;
+      for (double s = -0.05; s <= 0.0601; s += 0.0007) {
+        const double y = s > joint ? 0.5 * k * (s - joint) * (s - joint) : 0.0;
+        points.emplace_back(s, 0.002 + 0.05 * s + y + noise(rng));
+      }
+      const std::optional<JoinedArcs> fit = fit_joined_arcs(points);
+      ASSERT_TRUE(fit);
+      ASSERT_EQ(fit->points, static_cast<int>(points.size()));
+      double best_rss = INFINITY, best_xb = NAN;
+      const double lo = points.front().x(), hi = points.back().x();
+      for (double xb = lo + 0.01; xb <= hi - 0.01; xb += 0.004) {
+        Eigen::MatrixXd a(points.size(), 4);
+        Eigen::VectorXd y(points.size());
+        for (size_t i = 0; i < points.size(); ++i) {
+          const double x = points[i].x(), h = x > xb ? 0.5 * (x - xb) * (x - xb) : 0.0;
+          a.row(i) << 1.0, x, 0.5 * x * x - h, h;
+          y[i] = points[i].y();
+        }
+        const double rss = (a * a.householderQr().solve(y) - y).squaredNorm();
+        if (rss < best_rss) {
+          best_rss = rss;
+          best_xb = xb;
+        }
+      }
+      if (!fit->break_x_m) continue;  // the information criterion kept one piece
+      ++two_piece;
+      EXPECT_NEAR(*fit->break_x_m, best_xb, 1e-9) << "joint " << joint << " k " << k;
+    }
+  }
+  EXPECT_GE(two_piece, 10);  // of 12: the joints are all clear (k >= 1.2 over >= 2 cm)
 }
 
 // One arc all through: no joint is invented (the two-piece model does not explain the points
