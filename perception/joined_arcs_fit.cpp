@@ -37,93 +37,93 @@ Eigen::Vector4d solve_normal(const Eigen::Matrix4d& ata, const Eigen::Vector4d& 
   return c;
 }
 
-// Least squares of the model over the points marked; without a breakpoint, k2 = k1 (three
-// unknowns). The residual sum of squares summed over the points.
-Solved solve(const std::vector<Eigen::Vector2d>& p, const std::vector<bool>& use,
-             std::optional<double> xb) {
-  const int n_params = xb ? 4 : 3;
-  Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
-  Eigen::Vector4d aty = Eigen::Vector4d::Zero();
-  int used = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    if (!use[i]) continue;
-    const Eigen::Vector4d r = basis(p[i].x(), xb);
-    ata += r * r.transpose();
-    aty += r * p[i].y();
-    ++used;
+// The points marked, sorted by x, with suffix sums of their moments: the normal equations of the
+// model for any breakpoint from a handful of sums. The points beyond a breakpoint add h = (x -
+// xb)^2 / 2 terms whose sums are polynomials in xb over the moments of those points (x^0..x^4,
+// x^0..x^2 y), so each breakpoint costs a 4 x 4 solve, not a pass over the points.
+class PointMoments {
+ public:
+  PointMoments(const std::vector<Eigen::Vector2d>& p, const std::vector<bool>& use) {
+    for (size_t i = 0; i < p.size(); ++i)
+      if (use[i]) sorted_.push_back(&p[i]);
+    std::sort(sorted_.begin(), sorted_.end(),
+              [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
+    suffix_.assign(sorted_.size() + 1, std::array<double, 8>{});
+    for (size_t j = sorted_.size(); j-- > 0;) {
+      const double x = sorted_[j]->x(), y = sorted_[j]->y();
+      const double powers[5] = {1.0, x, x * x, x * x * x, x * x * x * x};
+      for (int k = 0; k < 5; ++k) suffix_[j][k] = suffix_[j + 1][k] + powers[k];
+      for (int k = 0; k < 3; ++k) suffix_[j][5 + k] = suffix_[j + 1][5 + k] + powers[k] * y;
+    }
+    for (const Eigen::Vector2d* q : sorted_) yty_ += q->y() * q->y();
   }
-  Solved s;
-  if (used < n_params + 2) return s;
-  s.c = solve_normal(ata, aty, n_params);
-  if (!xb) s.c[3] = s.c[2];
-  s.rss = 0.0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    if (!use[i]) continue;
-    const double r = basis(p[i].x(), xb).dot(s.c) - p[i].y();
-    s.rss += r * r;
-  }
-  return s;
-}
 
-// The breakpoints lo + min_piece, then every breakpoint_step, up to hi - min_piece, ranked by
-// their residual from the normal equations, y'y - c'a'y. The points beyond a breakpoint add h =
-// (x - xb)^2 / 2 terms whose sums are polynomials in xb over the moments of those points (sums
-// of x^0..x^4 and x^0..x^2 y), kept as suffix sums over the points sorted by x: each breakpoint
-// costs a 4 x 4 solve, not a pass over the points. Nullopt when none leaves each piece enough.
-std::optional<double> best_breakpoint(const std::vector<Eigen::Vector2d>& p,
-                                      const std::vector<bool>& use, double lo, double hi,
-                                      const JoinedArcsOptions& options) {
-  std::vector<const Eigen::Vector2d*> sorted;
-  for (size_t i = 0; i < p.size(); ++i)
-    if (use[i]) sorted.push_back(&p[i]);
-  std::sort(sorted.begin(), sorted.end(),
-            [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
-  const size_t n = sorted.size();
-  if (n < 6) return std::nullopt;
-  // suffix[j]: the moments of sorted[j..n): x^0..x^4 (0-4), x^0..x^2 y (5-7).
-  std::vector<std::array<double, 8>> suffix(n + 1, std::array<double, 8>{});
-  for (size_t j = n; j-- > 0;) {
-    const double x = sorted[j]->x(), y = sorted[j]->y();
-    const double powers[5] = {1.0, x, x * x, x * x * x, x * x * x * x};
-    for (int k = 0; k < 5; ++k) suffix[j][k] = suffix[j + 1][k] + powers[k];
-    for (int k = 0; k < 3; ++k) suffix[j][5 + k] = suffix[j + 1][5 + k] + powers[k] * y;
-  }
-  // The model without a breakpoint's sums: r0 = (1, x, x^2 / 2).
-  const std::array<double, 8>& all = suffix[0];
-  double yty = 0.0;
-  for (const Eigen::Vector2d* q : sorted) yty += q->y() * q->y();
-  Eigen::Matrix4d g0 = Eigen::Matrix4d::Zero();
-  g0(0, 0) = all[0];
-  g0(0, 1) = g0(1, 0) = all[1];
-  g0(1, 1) = all[2];
-  g0(0, 2) = g0(2, 0) = 0.5 * all[2];
-  g0(1, 2) = g0(2, 1) = 0.5 * all[3];
-  g0(2, 2) = 0.25 * all[4];
-  std::optional<double> best;
-  double best_rss = std::numeric_limits<double>::infinity();
-  size_t first = 0;  // sorted[first..n) lie beyond the breakpoint (x > xb)
-  for (double xb = lo + options.min_piece_m; xb <= hi - options.min_piece_m;
-       xb += options.breakpoint_step_m) {
-    while (first < n && sorted[first]->x() <= xb) ++first;
-    const std::array<double, 8>& m = suffix[first];
-    const double b1 = xb, b2 = xb * xb, b3 = b2 * xb, b4 = b2 * b2;
+  size_t size() const { return sorted_.size(); }
+  double lo() const { return sorted_.front()->x(); }
+  double hi() const { return sorted_.back()->x(); }
+  double yty() const { return yty_; }
+  const std::vector<const Eigen::Vector2d*>& sorted() const { return sorted_; }
+
+  // a'a and a'y of the model with the breakpoint xb (none: one piece), the points beyond it
+  // from index `first` of the sorted points on.
+  void normal_equations(std::optional<double> xb, size_t first, Eigen::Matrix4d* ata,
+                        Eigen::Vector4d* aty) const {
+    const std::array<double, 8>& all = suffix_[0];
+    Eigen::Matrix4d& g = *ata;
+    g.setZero();
+    g(0, 0) = all[0];
+    g(0, 1) = g(1, 0) = all[1];
+    g(1, 1) = all[2];
+    g(0, 2) = g(2, 0) = 0.5 * all[2];
+    g(1, 2) = g(2, 1) = 0.5 * all[3];
+    g(2, 2) = 0.25 * all[4];
+    *aty = Eigen::Vector4d(all[5], all[6], 0.5 * all[7], 0.0);
+    if (!xb) return;
+    const std::array<double, 8>& m = suffix_[first];
+    const double b1 = *xb, b2 = b1 * b1, b3 = b2 * b1, b4 = b2 * b2;
     const double s_h = 0.5 * (m[2] - 2.0 * b1 * m[1] + b2 * m[0]);
     const double s_hx = 0.5 * (m[3] - 2.0 * b1 * m[2] + b2 * m[1]);
     const double s_hx2 = 0.25 * (m[4] - 2.0 * b1 * m[3] + b2 * m[2]);  // sum of h x^2 / 2
     const double s_hh =
         0.25 * (m[4] - 4.0 * b1 * m[3] + 6.0 * b2 * m[2] - 4.0 * b3 * m[1] + b4 * m[0]);
     const double s_hy = 0.5 * (m[7] - 2.0 * b1 * m[6] + b2 * m[5]);
-    Eigen::Matrix4d ata = g0;
-    ata(0, 2) = ata(2, 0) = g0(0, 2) - s_h;
-    ata(1, 2) = ata(2, 1) = g0(1, 2) - s_hx;
-    ata(2, 2) = g0(2, 2) - 2.0 * s_hx2 + s_hh;
-    ata(0, 3) = ata(3, 0) = s_h;
-    ata(1, 3) = ata(3, 1) = s_hx;
-    ata(2, 3) = ata(3, 2) = s_hx2 - s_hh;
-    ata(3, 3) = s_hh;
-    const Eigen::Vector4d aty(all[5], all[6], 0.5 * all[7] - s_hy, s_hy);
+    g(0, 2) = g(2, 0) = g(0, 2) - s_h;
+    g(1, 2) = g(2, 1) = g(1, 2) - s_hx;
+    g(2, 2) = g(2, 2) - 2.0 * s_hx2 + s_hh;
+    g(0, 3) = g(3, 0) = s_h;
+    g(1, 3) = g(3, 1) = s_hx;
+    g(2, 3) = g(3, 2) = s_hx2 - s_hh;
+    g(3, 3) = s_hh;
+    (*aty)[2] -= s_hy;
+    (*aty)[3] = s_hy;
+  }
+
+  // The first sorted point beyond xb (x > xb), searched from `from` on.
+  size_t first_beyond(double xb, size_t from = 0) const {
+    while (from < sorted_.size() && sorted_[from]->x() <= xb) ++from;
+    return from;
+  }
+
+ private:
+  std::vector<const Eigen::Vector2d*> sorted_;
+  std::vector<std::array<double, 8>> suffix_;  // suffix_[j]: moments of sorted_[j..]
+  double yty_ = 0.0;
+};
+
+// The breakpoints lo + min_piece, then every breakpoint_step, up to hi - min_piece, ranked by
+// their residual from the normal equations, y'y - c'a'y. Nullopt when there is none.
+std::optional<double> best_breakpoint(const PointMoments& m, const JoinedArcsOptions& options) {
+  std::optional<double> best;
+  double best_rss = std::numeric_limits<double>::infinity();
+  size_t first = 0;
+  Eigen::Matrix4d ata;
+  Eigen::Vector4d aty;
+  for (double xb = m.lo() + options.min_piece_m; xb <= m.hi() - options.min_piece_m;
+       xb += options.breakpoint_step_m) {
+    first = m.first_beyond(xb, first);
+    m.normal_equations(xb, first, &ata, &aty);
     const Eigen::Vector4d c = solve_normal(ata, aty, 4);
-    const double rss = std::max(0.0, yty - c.dot(aty));
+    const double rss = std::max(0.0, m.yty() - c.dot(aty));
     if (rss < best_rss) {
       best_rss = rss;
       best = xb;
@@ -134,31 +134,40 @@ std::optional<double> best_breakpoint(const std::vector<Eigen::Vector2d>& p,
 
 // The best model over the points marked: one piece, or two with the breakpoint that leaves the
 // least residual, kept when it lowers n log(rss / n) by more than log n per extra parameter (two:
-// the breakpoint and the second curvature).
+// the breakpoint and the second curvature). The residuals of the two models compared are summed
+// over the points (exact).
 std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vector2d>& p,
                                                     const std::vector<bool>& use,
                                                     const JoinedArcsOptions& options) {
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  int n = 0;
-  for (size_t i = 0; i < p.size(); ++i) {
-    if (!use[i]) continue;
-    lo = std::min(lo, p[i].x());
-    hi = std::max(hi, p[i].x());
-    ++n;
-  }
-  Solved best = solve(p, use, std::nullopt);
-  std::optional<double> best_xb;
-  const std::optional<double> two_xb = best_breakpoint(p, use, lo, hi, options);
+  const PointMoments m(p, use);
+  const int n = static_cast<int>(m.size());
+  if (n < 5) return {Solved{}, std::nullopt};  // three unknowns and two more points
+  Eigen::Matrix4d ata;
+  Eigen::Vector4d aty;
+  Solved one;
+  m.normal_equations(std::nullopt, 0, &ata, &aty);
+  one.c = solve_normal(ata, aty, 3);
+  one.c[3] = one.c[2];
+  const std::optional<double> xb = n >= 6 ? best_breakpoint(m, options) : std::nullopt;
   Solved two;
-  if (two_xb) two = solve(p, use, two_xb);  // the breakpoint chosen, its residual exact
-  const double floor_rss = 1e-18 * n;       // noise-free points: no log of zero
-  if (two_xb && n > 6 &&
-      n * std::log((two.rss + floor_rss) / n) + 2.0 * std::log(n) <
-          n * std::log((best.rss + floor_rss) / n)) {
-    best = two;
-    best_xb = two_xb;
+  if (xb) {
+    m.normal_equations(xb, m.first_beyond(*xb), &ata, &aty);
+    two.c = solve_normal(ata, aty, 4);
   }
-  return {best, best_xb};
+  one.rss = two.rss = 0.0;
+  for (const Eigen::Vector2d* q : m.sorted()) {
+    const double r1 = basis(q->x(), std::nullopt).dot(one.c) - q->y();
+    one.rss += r1 * r1;
+    if (!xb) continue;
+    const double r2 = basis(q->x(), xb).dot(two.c) - q->y();
+    two.rss += r2 * r2;
+  }
+  const double floor_rss = 1e-18 * n;  // noise-free points: no log of zero
+  if (xb && n > 6 &&
+      n * std::log((two.rss + floor_rss) / n) + 2.0 * std::log(n) <
+          n * std::log((one.rss + floor_rss) / n))
+    return {two, xb};
+  return {one, std::nullopt};
 }
 
 }  // namespace
