@@ -39,6 +39,10 @@ class CameraModel {
 
   // Pixel where a point given in the vehicle frame is seen; nullopt when it is behind the camera.
   std::optional<cv::Point2d> vehicle_to_pixel(const Eigen::Vector3d& point_vehicle_m) const;
+  // Pixel of a point given in the camera frame (in front of it), as project_camera_points gives
+  // it: OpenCV's lens models written out for one point (their per-call set-up cost more than the
+  // arithmetic); the tilted-sensor model (14 coefficients) through OpenCV.
+  cv::Point2d camera_point_to_pixel(const Eigen::Vector3d& point_camera_m) const;
   std::optional<cv::Point2d> floor_to_pixel(const Eigen::Vector2d& floor_vehicle_m) const {
     return vehicle_to_pixel({floor_vehicle_m.x(), floor_vehicle_m.y(), 0.0});
   }

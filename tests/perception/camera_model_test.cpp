@@ -143,6 +143,50 @@ TEST(CameraModel, FisheyeLensProjectsAsOpenCvsFisheyeModel) {
   EXPECT_EQ(read.intrinsics.distortion, fisheye.distortion);
 }
 
+// The one-point projection (OpenCV's lens models written out) against OpenCV's own
+// cv::projectPoints / cv::fisheye::projectPoints, for every length of coefficient vector a
+// camera file may hold (4, 5, 8, 12, 14 and the fisheye's 4), strong coefficients, points out to
+// wide angles: within 1e-9 px (double rounding; a dropped or swapped term moves pixels by
+// whole pixels out there).
+TEST(CameraModel, OnePointProjectionIsOpenCvs) {
+  const std::vector<std::pair<std::vector<double>, bool>> lenses = {
+      {{}, false},
+      {{-0.31, 0.12, 0.002, -0.0015}, false},
+      {{-0.31, 0.12, 0.002, -0.0015, -0.03}, false},
+      {{0.4, -0.2, 0.001, 0.002, 0.05, 0.7, -0.1, 0.03}, false},
+      {{0.4, -0.2, 0.001, 0.002, 0.05, 0.7, -0.1, 0.03, 0.004, -0.002, 0.003, 0.001}, false},
+      {{0.4, -0.2, 0.001, 0.002, 0.05, 0.7, -0.1, 0.03, 0.004, -0.002, 0.003, 0.001, 0.01, -0.02},
+       false},
+      {{0.03, -0.01, 0.004, -0.001}, true},
+  };
+  for (const auto& [distortion, fisheye] : lenses) {
+    CameraIntrinsics lens;
+    lens.camera_matrix = cv::Matx33d(412.5, 0, 322.25, 0, 409.75, 237.5, 0, 0, 1);
+    lens.distortion = distortion;
+    lens.fisheye = fisheye;
+    const CameraModel camera(lens, testing::straight_down_mount(0.30, 0.0, 0.20));
+    for (const Eigen::Vector3d& p :
+         {Eigen::Vector3d(0.0, 0.0, 1.0), Eigen::Vector3d(0.3, -0.2, 1.0),
+          Eigen::Vector3d(-0.6, 0.45, 0.9), Eigen::Vector3d(1e-10, 0, 1)}) {
+      const cv::Mat zero = cv::Mat::zeros(3, 1, CV_64F);
+      const cv::Mat t = (cv::Mat_<double>(3, 1) << p.x(), p.y(), p.z());
+      std::vector<cv::Point2d> reference;
+      if (fisheye) {
+        cv::fisheye::projectPoints(std::vector<cv::Point3d>{{0, 0, 0}}, reference, zero, t,
+                                   cv::Mat(lens.camera_matrix), cv::Mat(distortion));
+      } else {
+        cv::projectPoints(std::vector<cv::Point3d>{{0, 0, 0}}, zero, t, cv::Mat(lens.camera_matrix),
+                          distortion.empty() ? cv::Mat() : cv::Mat(distortion), reference);
+      }
+      const cv::Point2d ours = camera.camera_point_to_pixel(p);
+      EXPECT_NEAR(ours.x, reference[0].x, 1e-9)
+          << distortion.size() << " coefficients, " << p.transpose();
+      EXPECT_NEAR(ours.y, reference[0].y, 1e-9)
+          << distortion.size() << " coefficients, " << p.transpose();
+    }
+  }
+}
+
 // A strongly distorting lens (barrel, k1 -0.35): every pixel out to the image corners reads
 // back to a ray that OpenCV's own projectPoints (not the camera model) puts on that pixel within
 // a thousandth of a pixel. OpenCV's default of 5 undistortion iterations leaves the corners
