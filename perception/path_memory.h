@@ -93,7 +93,7 @@ class PathMemory {
                                           const std::vector<Eigen::Vector2d>& points);
   // The misalignment's uncertainty after travelled_m more of the odometry's kind.
   void grow_misalignment(double travelled_m, OdometryKind kind);
-  void register_to(const std::vector<Eigen::Vector2d>& evidence,
+  void register_to(const std::vector<Eigen::Vector2d>& evidence, const CurveModel& line,
                    std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
