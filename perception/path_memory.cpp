@@ -336,7 +336,9 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   double first_change_s = std::numeric_limits<double>::quiet_NaN();
   double first_break_s = std::numeric_limits<double>::quiet_NaN();
   std::vector<double> ahead;
-  const double h = options_.preview_half_window_m;
+  const double h = options_.preview_half_window_m, across_m = 0.02;
+  const PointGrid grid(in_vehicle, std::hypot(h, across_m));
+  std::vector<size_t> near;
   for (double s = options_.preview_step_m;; s += options_.preview_step_m) {
     // Advance along the arc of the current curvature.
     const double turn = curvature * options_.preview_step_m;
@@ -344,11 +346,15 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
                                                     : options_.preview_step_m;
     at += chord * Eigen::Vector2d(std::cos(heading + 0.5 * turn), std::sin(heading + 0.5 * turn));
     heading += turn;
+    // The points within the window (in the order they are remembered).
+    near.clear();
+    grid.for_each_near(at, [&](size_t j) { near.push_back(j); });
+    std::sort(near.begin(), near.end());
     std::vector<Eigen::Vector2d> local;
     double hi = -1.0;
-    for (const Eigen::Vector2d& p : in_vehicle) {
-      const Eigen::Vector2d q = rotated(p - at, -heading);
-      if (std::abs(q.x()) > h || std::abs(q.y()) > 0.02) continue;
+    for (size_t j : near) {
+      const Eigen::Vector2d q = rotated(in_vehicle[j] - at, -heading);
+      if (std::abs(q.x()) > h || std::abs(q.y()) > across_m) continue;
       local.push_back(q);
       hi = std::max(hi, q.x());
     }
