@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "common/twist_motion.h"
+#include "common/vector_clones.h"
 #include "pipeline/sim/tape_pieces.h"
 
 namespace agv::pipeline {
@@ -192,6 +193,7 @@ std::vector<FrameRenderer::SubPose> FrameRenderer::sub_poses(const Pose2& pose,
   return poses;
 }
 
+AGV_VECTOR_CLONES
 void FrameRenderer::render_texture(const std::vector<SubPose>& texture_poses) const {
   const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
   cv::Mat& texture_small = workspace_.texture_small;
@@ -254,6 +256,7 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
 }
 
 // The floor's colour along row v, with its texture.
+AGV_VECTOR_CLONES
 void FrameRenderer::shade_floor_row(int v, const RowContext& row, RowBuffers* b) const {
   const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
   const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
@@ -269,6 +272,7 @@ void FrameRenderer::shade_floor_row(int v, const RowContext& row, RowBuffers* b)
 
 // Tape strip i over row v: each pixel's coverage averaged over the exposure, worn patches, the
 // tape's colour blended over the floor by that coverage.
+AGV_VECTOR_CLONES
 void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuffers* b) const {
   const int w = static_cast<int>(b->blue.size());
   const float* xs = floor_x_m_.ptr<float>(v);
@@ -380,6 +384,7 @@ void FrameRenderer::wear_tape_in_row(int v, int i, const Pose2& pose,
 
 // The camera over row v: vignetting and illumination gain, glare, sensor noise, 8-bit output
 // (one plane per channel, so that the loops vectorise; merged into BGR at the end).
+AGV_VECTOR_CLONES
 void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b) const {
   const int w = static_cast<int>(b.blue.size());
   const float* __restrict gain = gain_.ptr<float>(v);

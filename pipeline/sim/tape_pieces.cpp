@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "common/angles.h"
+#include "common/vector_clones.h"
 
 namespace agv::pipeline {
 namespace {
@@ -126,6 +127,7 @@ LocalPiece to_local(const WorldPiece& w, const Pose2& vehicle_inverse) {
   return l;
 }
 
+AGV_VECTOR_CLONES
 void piece_distances(const LocalPiece& piece, const float* xs, const float* ys, int count,
                      float* distance, bool cuts) {
   constexpr float kFar = 1e30f;
