@@ -150,10 +150,6 @@ class EvidenceIndex {
   std::vector<bool> computed_;
 };
 
-}  // namespace
-
-namespace {
-
 // The curve through point p0 with direction heading0 and curvature k, as the model of the vehicle
 // origin's foot point on it (CurveModel's parametrisation).
 CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, double k) {
@@ -231,9 +227,10 @@ void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
 void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const CurveModel& line,
                              std::vector<Eigen::Vector2d>* in_vehicle) {
   // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
-  // from the line through the nearest evidence points (the evidence itself, not a curve fitted
-  // to it, which may not hold across a joint), delta = (rotation about the origin, shift x,
-  // shift y). The shift along a straight tape is not observable: a small ridge keeps it at 0.
+  // from the tape's local course through the nearest evidence points (the evidence itself, bent
+  // by the line in view's curvature: not the curve fitted to all of it, which may not hold across
+  // a joint; see EvidenceIndex), delta = (rotation about the origin, shift x, shift y). The shift
+  // along a straight tape is not observable: a small ridge keeps it at 0.
   if (evidence.size() < 3) return;
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
