@@ -197,9 +197,14 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
                                   : region.spread_px < 1.5 * region.width_px);
     const double width_px =
         configured || band ? tape_width_px_ : std::min(tape_width_px_, 1.5 * region.width_px);
+    // Dips (worn spots) are crossed up to a quarter of the tape's width; without a configured
+    // width, of the region's own (a band's tape may be the widest there is, but a dip as long as
+    // a quarter of that crosses a coarse floor texture's gaps onto blotches as bright as tape).
+    const double dip_width_px =
+        configured ? width_px : std::min(tape_width_px_, 1.5 * region.width_px);
     EdgeScanOptions scan = options_.scan;
     scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(0.6 * width_px)));
-    scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * width_px));
+    scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * dip_width_px));
     const bool rows_first = std::abs(region.direction.y) >= std::abs(region.direction.x);
     for (bool along_rows : {true, false}) {
       if (band && along_rows != rows_first) continue;

@@ -30,6 +30,18 @@ float histogram_median(const std::vector<int>& histogram, int first, int last) {
   return value_of(last - 1);
 }
 
+// The value with a fraction q of the histogram's counts at or below it (its bin's middle).
+float histogram_quantile(const std::vector<int>& histogram, double q) {
+  long total = 0;
+  for (int count : histogram) total += count;
+  long cumulative = 0;
+  for (int b = 0; b < kBins; ++b) {
+    cumulative += histogram[b];
+    if (cumulative >= q * total) return value_of(b);
+  }
+  return value_of(kBins - 1);
+}
+
 cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
   cv::Mat contrast(frame.size(), CV_32F);
   for (int y = 0; y < frame.rows; ++y) {
@@ -117,7 +129,10 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   }
   // ISODATA on the bar response: the threshold settles half-way between the medians of the two
   // classes. It never drops below 0.25 (a quarter of the nominal tape contrast), so that floor
-  // texture alone is not called tape on a tape-free frame.
+  // texture alone is not called tape on a tape-free frame, nor below half-way between the
+  // response's median (the floor) and its 99.5 % point (the strongest bars, the tape where there
+  // is any): on a coarse texture as strong as the tape the two classes are the floor's smooth
+  // and its blotchy parts, and the split between them lets the blotches join the tape.
   float threshold = 0.5f;
   for (int iteration = 0; iteration < 8; ++iteration) {
     const int split = bin_of(threshold) + 1;
@@ -126,6 +141,8 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
     if (std::abs(next - threshold) < kBinWidth) break;
     threshold = next;
   }
+  threshold = std::max(threshold, 0.5f * (histogram_quantile(histogram, 0.5) +
+                                          histogram_quantile(histogram, 0.995)));
   const int split = bin_of(threshold) + 1;
   result.threshold = threshold;
   result.floor_level = histogram_median(histogram, 0, split);

@@ -48,6 +48,32 @@ TEST(TapeRegions, FindsTheBandNotTheBroadPatch) {
   EXPECT_LT(found.threshold, found.tape_level);
 }
 
+// The band of the test above on a floor of coarse blotches (blurred noise, features about the
+// band's width) whose darkest reach the tape's level. The region of the band must be the band,
+// not the band and the blotches it touches: its direction within 3 deg, its spread across no
+// more than twice the band's width, its area at most 1.5 times the band's (6 x 160 px). With
+// the threshold of ISODATA alone (0.25 here), whose two classes are then the floor's smooth and
+// blotchy parts, the blotches join the band: spread 210 px, area 1136.
+TEST(TapeRegions, AFloorTextureAsStrongAsTheTapeDoesNotJoinTheBand) {
+  cv::Mat texture(120, 160, CV_32F);
+  cv::RNG rng(5);
+  rng.fill(texture, cv::RNG::NORMAL, 0.0, 1.0);
+  cv::GaussianBlur(texture, texture, cv::Size(0, 0), 2.0);
+  cv::Scalar mean, sigma;
+  cv::meanStdDev(texture, mean, sigma);
+  cv::Mat small;  // grey 180, blotches of 70 grey levels (1 sigma)
+  texture.convertTo(small, CV_8U, 70.0 / sigma[0], 180.0 - 70.0 * mean[0] / sigma[0]);
+  const double angle = 30.0 * CV_PI / 180.0;
+  const cv::Point2d centre(90, 60), along(std::sin(angle), std::cos(angle));
+  cv::line(small, centre - 80 * along, centre + 80 * along, cv::Scalar(40), 6, cv::LINE_AA);
+  const TapeRegions found = find_tape_regions(small, dark_tape_axis(), 4, {3.0, 6.0, 12.0}, 12);
+  ASSERT_FALSE(found.regions.empty());
+  const TapeRegion& band = found.regions.front();
+  EXPECT_GT(std::abs(band.direction.dot(along)), std::cos(3.0 * CV_PI / 180.0));
+  EXPECT_LE(band.spread_px, 4 * 2 * 6.0);
+  EXPECT_LE(band.area_small_px, 1.5 * 6 * 160);
+}
+
 TEST(TapeRegions, AnEmptyFloorHasNoRegions) {
   cv::Mat small(120, 160, CV_8UC1, cv::Scalar(180));
   cv::RNG rng(3);
