@@ -58,6 +58,10 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       ->check(CLI::IsMember({"line", "arc", "s-bend", "corner", "fork"}))
       ->capture_default_str();
   sub->add_option("--seed", args.seed, "Seed (same seed, same frames)")->capture_default_str();
+  sub->add_option("--only-sequence", args.only_sequence,
+                  "Drive only this sequence (numbered from 0 as sequences.csv numbers them: the "
+                  "same frames as in the full run), to look at one again")
+      ->check(CLI::Range(0, 2000));
   sub->add_option("--out", args.out_dir,
                   "Also write frames.csv, sequences.csv and summary.json to this folder");
   sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
@@ -65,7 +69,7 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       "--save-failures", args.save_failures,
       "Write annotated frames that were missed, off by more than 1 mm / 0.5 deg, or gave a line "
       "without tape, to this folder (at most 60; the sequences' in sequences/ there, at most 5 a "
-      "sequence)");
+      "sequence, 60 with --only-sequence)");
   sub->add_flag("--json", args.json, "Print the summary as JSON");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
@@ -125,6 +129,10 @@ int run_evaluate(const EvaluateArgs& args) {
   options.empty_conditions = args.empty_conditions;
   options.seed = args.seed;
   options.save_failures_dir = args.save_failures;
+  if (args.only_sequence >= args.sequences + args.empty_sequences)
+    throw InputError("--only-sequence " + std::to_string(args.only_sequence) + ": there are " +
+                     std::to_string(args.sequences + args.empty_sequences) +
+                     " sequences (--sequences plus --empty-sequences), numbered from 0");
   // The output folder first: a folder that may not be replaced is refused before the work.
   std::optional<pipeline::OutputFolder> folder;
   if (!args.out_dir.empty()) folder.emplace(args.out_dir, "summary.json", args.force);
@@ -140,6 +148,9 @@ int run_evaluate(const EvaluateArgs& args) {
     sequence_options.empty_sequences = args.empty_sequences;
     sequence_options.path_length_m = args.sequence_length_m;
     sequence_options.seed = args.seed;
+    sequence_options.only_sequence = args.only_sequence;
+    if (args.only_sequence >= 0)
+      sequence_options.max_saved_per_sequence = sequence_options.max_saved;
     sequence_options.pieces.clear();
     for (const std::string& word : args.sequence_pieces)
       sequence_options.pieces.push_back(pipeline::parse_path_piece(word));

@@ -16,6 +16,7 @@ struct EvaluateArgs {
   double sequence_length_m = 3.0;
   std::vector<std::string> sequence_pieces = {"line", "arc", "s-bend", "corner", "fork"};
   unsigned seed = 1;
+  int only_sequence = -1;
   std::string out_dir;
   bool force = false;  // --force: replace an existing output folder
   std::string save_failures;

@@ -159,6 +159,7 @@ void run_sequence(cv::RNG& rng, const SequenceBenchmarkOptions& options, int ind
       rad_to_deg(camera.tilt_rad), 1e3 * tape.width_m, light_floor ? "light-floor" : "dark-floor",
       perception.tape.color_bgr ? " hint" : "", with_tape ? drawn.text.c_str() : "no tape");
   result->sequence_texts.push_back(text);
+  if (options.only_sequence >= 0 && index != options.only_sequence) return;
 
   const FrameRenderer renderer(camera.camera, scene);
   ImagePerceiver perceiver(camera.camera, perception, /*path_memory=*/true);
@@ -258,7 +259,7 @@ nlohmann::json summarise(const SequenceBenchmarkResult& result,
   }
   nlohmann::json j;
   j["seed"] = options.seed;
-  j["sequences"] = options.sequences;
+  j["sequences"] = options.only_sequence >= 0 ? 1 : options.sequences;
   j["frames_with_tape"] = tape_frames;
   j["found_fraction"] = tape_frames ? static_cast<double>(found) / tape_frames : 0.0;
   j["warm_up_m"] = options.warm_up_m;
@@ -312,6 +313,10 @@ SequenceBenchmarkResult run_sequence_benchmark(const SequenceBenchmarkOptions& o
   if (!options.save_failures_dir.empty())
     std::filesystem::create_directories(options.save_failures_dir);
   const int total = options.sequences + options.empty_sequences;
+  if (options.only_sequence >= total)
+    throw std::invalid_argument("only sequence " + std::to_string(options.only_sequence) +
+                                " asked for, but there are " + std::to_string(total) +
+                                " (numbered from 0)");
   int saved = 0;
   for (int i = 0; i < total; ++i) {
     run_sequence(rng, options, i, i < options.sequences, &result, &saved);

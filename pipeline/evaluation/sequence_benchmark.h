@@ -27,6 +27,7 @@ struct SequenceBenchmarkOptions {
   // driven onto tape it saw before the path memory has it under the vehicle.
   double warm_up_m = 0.5;
   std::uint64_t seed = 1;
+  int only_sequence = -1;  // >= 0: drive this one only (the draws of the others still made)
   // Where to write annotated frames that were lost or off by more than 1 mm / 0.5 deg after the
   // warm-up, or gave a line without tape ("": none); at most max_saved_per_sequence of each
   // sequence and max_saved in all.

@@ -107,6 +107,41 @@ TEST_F(AgvCli, EvaluateDrivesSequencesOfTheNamedPieces) {
   EXPECT_NE(bad.output.find("zigzag"), std::string::npos) << bad.output;
 }
 
+// --only-sequence drives one sequence of the draw again: its rows are those of the full run
+// (the same frames, the same measurements; all but the time taken), and no other sequence's.
+TEST_F(AgvCli, EvaluateDrivesOneSequenceAgainAsInTheFullRun) {
+  const std::string common =
+      "evaluate --quiet --conditions 1 --frames-per-condition 1 --empty-conditions 0 --sequences 2 "
+      "--empty-sequences 0 --sequence-length-m 1 --sequence-pieces line,arc --out ";
+  ASSERT_EQ(run(common + path("all")).exit_code, 0);
+  ASSERT_EQ(run(common + path("one") + " --only-sequence 1").exit_code, 0);
+  // The rows of sequence 1, without the perceive_ms column (the 12th).
+  auto rows_of_sequence_1 = [](const std::filesystem::path& file) {
+    std::ifstream csv(file);
+    std::string line;
+    std::getline(csv, line);
+    std::vector<std::string> rows;
+    while (std::getline(csv, line)) {
+      std::vector<std::string> fields;
+      std::stringstream in(line);
+      for (std::string field; std::getline(in, field, ',');) fields.push_back(field);
+      if (fields.size() > 12) fields.erase(fields.begin() + 11);
+      std::string row;
+      for (const std::string& f : fields) row += f + ",";
+      rows.push_back(row);
+    }
+    return rows;
+  };
+  std::vector<std::string> all = rows_of_sequence_1(dir_ / "all" / "sequences.csv");
+  std::erase_if(all, [](const std::string& row) { return row.rfind("1,", 0) != 0; });
+  const std::vector<std::string> one = rows_of_sequence_1(dir_ / "one" / "sequences.csv");
+  EXPECT_EQ(all.size(), 100u);
+  EXPECT_EQ(one, all);
+  const Result bad = run("evaluate --quiet --sequences 2 --empty-sequences 0 --only-sequence 2");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--only-sequence 2: there are 2"), std::string::npos) << bad.output;
+}
+
 // An existing output folder is replaced only when the user asks (--force), and then only when
 // it holds a previous result; a folder of something else is never removed.
 TEST_F(AgvCli, AnExistingOutputFolderIsReplacedOnlyWithForce) {
