@@ -394,4 +394,30 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   return fit;
 }
 
+// The curve through point p0 with direction heading0 and curvature k, as the model of the vehicle
+// origin's foot point on it (CurveModel's parametrisation).
+CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, double k) {
+  const Eigen::Vector2d t0(std::cos(heading0), std::sin(heading0));
+  const Eigen::Vector2d n0(-t0.y(), t0.x());
+  CurveModel m;
+  m.curvature_1_m = k;
+  // Signed distance of the origin from the circle through p0: that of -p0 from the same circle
+  // moved to pass through the origin.
+  m.e_d_m = CurveModel{0.0, heading0, k}.signed_distance(-p0);
+  if (std::abs(k) < 1e-9) {
+    m.heading_rad = heading0;
+    return m;
+  }
+  // The tangent at the origin's foot point: the radius through the origin turned by 90 deg
+  // towards the travel direction.
+  const Eigen::Vector2d centre = p0 + n0 / k;
+  Eigen::Vector2d radial = -centre;
+  if (radial.norm() < 1e-12) radial = p0 - centre;  // the origin at the centre: any foot
+  radial.normalize();
+  const Eigen::Vector2d tangent =
+      k > 0.0 ? Eigen::Vector2d(-radial.y(), radial.x()) : Eigen::Vector2d(radial.y(), -radial.x());
+  m.heading_rad = std::atan2(tangent.y(), tangent.x());
+  return m;
+}
+
 }  // namespace agv::perception

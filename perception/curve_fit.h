@@ -131,4 +131,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
 std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                         const Eigen::Vector2d& c, const Eigen::Vector2d& forward);
 
+// The curve through point p0 with direction heading0 and curvature k (all in the vehicle frame),
+// as the model of the vehicle origin's foot point on it (CurveModel's parametrisation).
+CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, double k);
+
 }  // namespace agv::perception

@@ -180,7 +180,7 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
     before = before || p.x() < 0.0;
     after = after || p.x() > 0.0;
   }
-  if (!before || !after) return std::nullopt;
+  if (options.both_sides && (!before || !after)) return std::nullopt;
   std::vector<bool> use(points.size(), true);
   auto [model, xb] = best_model(points, use, options);
   // Once: drop the points far off (a stray chord, a seam), then fit again.

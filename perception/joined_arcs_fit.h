@@ -27,9 +27,11 @@ struct JoinedArcsOptions {
   double breakpoint_step_m = 0.004;  // breakpoints tried every this much along x
   double min_piece_m = 0.01;         // each piece must hold at least this much of the points
   double outlier_sigmas = 4.0;       // points this many robust sigmas off are dropped, once
+  bool both_sides = true;  // the points must lie on both sides of x = 0 (false: extrapolate)
 };
 
-// Nullopt when fewer than 6 points, or they do not span both sides of x = 0.
+// Nullopt when fewer than 6 points, or (options.both_sides) they do not span both sides of
+// x = 0.
 std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
                                           const JoinedArcsOptions& options = {});
 

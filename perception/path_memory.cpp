@@ -150,32 +150,6 @@ class EvidenceIndex {
   std::vector<bool> computed_;
 };
 
-// The curve through point p0 with direction heading0 and curvature k, as the model of the vehicle
-// origin's foot point on it (CurveModel's parametrisation).
-CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, double k) {
-  const Eigen::Vector2d t0(std::cos(heading0), std::sin(heading0));
-  const Eigen::Vector2d n0(-t0.y(), t0.x());
-  CurveModel m;
-  m.curvature_1_m = k;
-  // Signed distance of the origin from the circle through p0: that of -p0 from the same circle
-  // moved to pass through the origin.
-  m.e_d_m = CurveModel{0.0, heading0, k}.signed_distance(-p0);
-  if (std::abs(k) < 1e-9) {
-    m.heading_rad = heading0;
-    return m;
-  }
-  // The tangent at the origin's foot point: the radius through the origin turned by 90 deg
-  // towards the travel direction.
-  const Eigen::Vector2d centre = p0 + n0 / k;
-  Eigen::Vector2d radial = -centre;
-  if (radial.norm() < 1e-12) radial = p0 - centre;  // the origin at the centre: any foot
-  radial.normalize();
-  const Eigen::Vector2d tangent =
-      k > 0.0 ? Eigen::Vector2d(-radial.y(), radial.x()) : Eigen::Vector2d(radial.y(), -radial.x());
-  m.heading_rad = std::atan2(tangent.y(), tangent.x());
-  return m;
-}
-
 Eigen::Vector2d rotated(const Eigen::Vector2d& p, double angle_rad) {
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
   return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
@@ -190,6 +164,7 @@ void PathMemory::reset() {
   misalignment_cov_.setZero();
   last_odometry_.reset();
   tape_heading_rad_.reset();
+  corner_passed_at_m_.reset();
 }
 
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
@@ -312,6 +287,121 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   const double k = fit->curvature_1_m / std::pow(1.0 + fit->slope * fit->slope, 1.5);
   const CurveModel model =
       curve_through_point(rotated({0.0, fit->offset_m}, frame_rad), frame_rad + slope_angle, k);
+  LineMeasurement m = in_view;
+  m.e_d_m = model.e_d_m;
+  m.e_theta_rad = wrap_angle_rad(-model.heading_rad);
+  m.curvature_1_m = model.curvature_1_m;
+  m.extrapolated = false;
+  return m;
+}
+
+std::optional<LineMeasurement> PathMemory::across_gap(
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
+  // Only just after a corner.
+  if (!corner_passed_at_m_ || odometer_m_ - *corner_passed_at_m_ > options_.bridge_after_corner_m)
+    return std::nullopt;
+  // In a frame along the remembered tape's direction at the origin (else the vehicle's): the
+  // tape nearest behind the origin and nearest ahead of it, each over gap_end_m.
+  const double frame_rad =
+      tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad) : 0.0;
+  std::vector<Eigen::Vector2d> local;
+  std::vector<double> along;
+  for (const Eigen::Vector2d& p : in_vehicle) {
+    const Eigen::Vector2d q = rotated(p, -frame_rad);
+    if (std::abs(q.y()) > options_.window_across_m || q.x() < -options_.keep_behind_m ||
+        q.x() > options_.max_gap_m + options_.gap_end_m)
+      continue;
+    local.push_back(q);
+    along.push_back(q.x());
+  }
+  // The gap: two consecutive points (along the tape) more than kContiguous_m apart, the origin
+  // between them or less than twice min_cover_m beyond either (where the fit at the origin lacks
+  // tape on that side), the nearest such.
+  constexpr double kContiguous_m = 0.01;
+  std::sort(along.begin(), along.end());
+  double last_behind = 0.0, first_ahead = 0.0, best = 2.0 * options_.min_cover_m;
+  for (size_t j = 0; j + 1 < along.size(); ++j) {
+    if (along[j + 1] - along[j] < kContiguous_m) continue;
+    const double outside = std::max({0.0, along[j] - 0.0, 0.0 - along[j + 1]});
+    if (outside >= best) continue;
+    best = outside;
+    last_behind = along[j];
+    first_ahead = along[j + 1];
+  }
+  if (!(first_ahead > last_behind)) return std::nullopt;
+  if (first_ahead - last_behind > options_.max_gap_m) return std::nullopt;
+  // The two ends (points in the frame above), in a frame along the chord across the gap (so that
+  // the tape across it has small slopes): each end's position and direction where it meets the gap
+  // from a quadratic through its last (first) gap_end_m, and a cubic between them with those values
+  // and slopes (Hermite), whose value, slope and second derivative at the origin give the errors.
+  std::vector<Eigen::Vector2d> ends[2];
+  for (const Eigen::Vector2d& q : local) {
+    if (q.x() <= last_behind && q.x() >= last_behind - options_.gap_end_m) ends[0].push_back(q);
+    if (q.x() > last_behind && q.x() <= first_ahead + options_.gap_end_m) ends[1].push_back(q);
+  }
+  if (static_cast<int>(ends[0].size()) < options_.min_points ||
+      static_cast<int>(ends[1].size()) < options_.min_points)
+    return std::nullopt;
+  auto extreme = [](const std::vector<Eigen::Vector2d>& points, bool last) {
+    return *std::max_element(points.begin(), points.end(), [&](const auto& a, const auto& b) {
+      return last ? a.x() < b.x() : a.x() > b.x();
+    });
+  };
+  const Eigen::Vector2d p0 = extreme(ends[0], true), p1 = extreme(ends[1], false);
+  const double chord_rad = std::atan2(p1.y() - p0.y(), p1.x() - p0.x());
+  // Value and slope at x_end of y = a + b (x - x_end) + c (x - x_end)^2, least squares.
+  auto end_of = [&](const std::vector<Eigen::Vector2d>& points, double x_end) {
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d aty = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector2d& q : points) {
+      const Eigen::Vector2d r = rotated(q, -chord_rad);
+      const double u = r.x() - x_end;
+      const Eigen::Vector3d row(1.0, u, u * u);
+      ata += row * row.transpose();
+      aty += row * r.y();
+    }
+    return Eigen::Vector3d(ata.ldlt().solve(aty));
+  };
+  const double x0 = rotated(p0, -chord_rad).x(), x1 = rotated(p1, -chord_rad).x();
+  const Eigen::Vector3d behind = end_of(ends[0], x0), ahead = end_of(ends[1], x1);
+  if (!behind.allFinite() || !ahead.allFinite() || !(x1 > x0)) return std::nullopt;
+  // Where the two ends' directions disagree (the tape remembered behind still bends out of a
+  // corner, or was seen badly there), the line through the end ahead, the tape seen last, if
+  // it meets the end behind within max_gap_offset_m.
+  const bool agree =
+      std::abs(std::atan(ahead[1]) - std::atan(behind[1])) <= options_.max_gap_turn_rad;
+  // The origin in the frame is x = 0 (a rotation about it); beyond either end, that end's own.
+  double y, slope, second;
+  if (!agree) {
+    // ... and only where that line passes by the end behind (not a branch leaving there).
+    if (std::abs(ahead[0] + ahead[1] * (x0 - x1) - behind[0]) > options_.max_gap_offset_m)
+      return std::nullopt;
+    y = ahead[0] - ahead[1] * x1;
+    slope = ahead[1];
+    second = 0.0;
+  } else if (0.0 <= x0 || 0.0 >= x1) {
+    const Eigen::Vector3d& c = 0.0 <= x0 ? behind : ahead;
+    const double u = -(0.0 <= x0 ? x0 : x1);
+    y = c[0] + c[1] * u + c[2] * u * u;
+    slope = c[1] + 2.0 * c[2] * u;
+    second = 2.0 * c[2];
+  } else {
+    // Hermite basis on t = (x - x0) / h.
+    const double h = x1 - x0, t = -x0 / h;
+    const double y0 = behind[0], m0 = behind[1] * h, y1 = ahead[0], m1 = ahead[1] * h;
+    const double t2 = t * t, t3 = t2 * t;
+    y = (2 * t3 - 3 * t2 + 1) * y0 + (t3 - 2 * t2 + t) * m0 + (-2 * t3 + 3 * t2) * y1 +
+        (t3 - t2) * m1;
+    slope = ((6 * t2 - 6 * t) * y0 + (3 * t2 - 4 * t + 1) * m0 + (-6 * t2 + 6 * t) * y1 +
+             (3 * t2 - 2 * t) * m1) /
+            h;
+    second =
+        ((12 * t - 6) * y0 + (6 * t - 4) * m0 + (-12 * t + 6) * y1 + (6 * t - 2) * m1) / (h * h);
+  }
+  const double k = second / std::pow(1.0 + slope * slope, 1.5);
+  const double angle = frame_rad + chord_rad;  // the chord frame in the vehicle frame
+  const CurveModel model =
+      curve_through_point(rotated({0.0, y}, angle), angle + std::atan(slope), k);
   LineMeasurement m = in_view;
   m.e_d_m = model.e_d_m;
   m.e_theta_rad = wrap_angle_rad(-model.heading_rad);
@@ -467,6 +557,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   const double travelled_m =
       last_odometry_ ? last_odometry_->inverse().compose(*odometry).translation().norm() : 0.0;
   if (travelled_m > options_.max_jump_m) reset();
+  odometer_m_ += travelled_m;
   last_odometry_ = odometry;
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
@@ -486,6 +577,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   for (size_t i = 0; i < points_.size() && i < in_vehicle.size(); ++i) {
     if (in_vehicle[i].x() < -options_.keep_behind_m) continue;
     if (points_[i].frame <= frame_ - options_.keep_frames) continue;
+    if (odometer_m_ - points_[i].seen_at_m > options_.keep_travel_m) continue;
     if (on_other[i]) continue;
     kept.push_back(points_[i]);
   }
@@ -493,10 +585,11 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   in_vehicle.clear();
   for (const Point& point : points_) in_vehicle.push_back(vehicle_.inverse().transform(point.p));
   for (const Eigen::Vector2d& centre : evidence) {
-    points_.push_back({vehicle_.transform(centre), frame_});
+    points_.push_back({vehicle_.transform(centre), frame_, odometer_m_});
     in_vehicle.push_back(centre);
   }
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
+  if (!m) m = across_gap(in_view, in_vehicle);
   if (m) {
     add_preview(in_vehicle, &*m);
     remember_heading(*m);
@@ -534,6 +627,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
   }
   m->line_found = true;
   m->remembered_only = true;
+  corner_passed_at_m_ = odometer_m_;
   m->lines_seen = 0;
   m->confidence = 0.5;  // no evidence in this frame
   m->points_used = 0;

@@ -16,8 +16,12 @@ namespace agv::perception {
 enum class OdometryKind { wheels, frames, guess };
 
 struct PathMemoryOptions {
-  double keep_behind_m = 0.15;   // tape remembered behind the vehicle origin
-  int keep_frames = 40;          // evidence of at most this many frames is kept
+  double keep_behind_m = 0.25;  // tape remembered behind the vehicle origin
+  // Evidence seen at most this far back along the way is kept (the camera may see the tape
+  // 0.45 m ahead, which stays needed until keep_behind_m behind), and of at most this many frames
+  // (a vehicle standing still).
+  double keep_travel_m = 0.8;
+  int keep_frames = 120;
   double window_m = 0.05;        // the tape this far either side of the origin gives the errors
   double min_cover_m = 0.025;    // ... and must reach at least this far on both sides
   double window_across_m = 0.1;  // ... and lie no further than this across it
@@ -28,6 +32,14 @@ struct PathMemoryOptions {
   double neighbourhood_m = 0.008;  // the tape's local direction from its evidence this near
   int min_overlap_points = 20;     // registration needs this many of them
   double max_jump_m = 0.3;         // odometry that moves further between frames restarts the memory
+  // Across a gap in the remembered tape under the vehicle: the last gap_end_m of the tape
+  // before it and the first after it, the gap no longer than max_gap_m.
+  double gap_end_m = 0.04;
+  double max_gap_m = 0.3;
+  double max_gap_turn_rad = 0.5;  // ... the tape's directions at its two ends this near (else
+  double max_gap_offset_m =
+      0.005;  //   the line through the end ahead, passing this near the other)
+  double bridge_after_corner_m = 0.5;  // ... within this travel of a corner (remembered only)
   // Registration: how well a centre-line point is known. Not its own noise (0.1 mm) but the
   // bias it shares with its neighbours in one frame (0.05-0.1 mm over 0.1 m of wide tape), which
   // hundreds of points do not average out: at 0.1 mm the registration turned the memory by 0.5
@@ -82,8 +94,9 @@ class PathMemory {
 
  private:
   struct Point {
-    Eigen::Vector2d p;  // in the memory frame
-    int frame = 0;      // which frame saw it
+    Eigen::Vector2d p;       // in the memory frame
+    int frame = 0;           // which frame saw it
+    double seen_at_m = 0.0;  // the odometer then
   };
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
   // For each point (vehicle frame): whether it lies on a line in view other than the followed
@@ -97,6 +110,12 @@ class PathMemory {
                    std::vector<Eigen::Vector2d>* in_vehicle);
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
+  // Where no tape was seen under the vehicle but some behind it and some ahead, just past a
+  // corner (the camera looked beyond the tape that then came under the vehicle): the errors at the
+  // origin from a quadratic through the nearest of both, the gap at most max_gap_m, their
+  // directions within max_gap_turn_rad.
+  std::optional<LineMeasurement> across_gap(const LineMeasurement& in_view,
+                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // A frame without tape in view after tape that turned out of the view: the errors from the
   // remembered tape alone, where it lies under the vehicle; else `in_view` as it is.
   LineMeasurement remembered_only(const LineMeasurement& in_view);
@@ -120,9 +139,11 @@ class PathMemory {
   std::optional<Pose2> last_odometry_;
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
-  double tape_width_m_ = 0.0;               // the width of the evidence remembered (0: none yet)
-  std::optional<double> tape_heading_rad_;  // the tape's direction at the origin, memory frame
-  bool turns_out_of_view_ = false;          // the tape last seen turned out of the view
+  double tape_width_m_ = 0.0;                 // the width of the evidence remembered (0: none yet)
+  std::optional<double> tape_heading_rad_;    // the tape's direction at the origin, memory frame
+  bool turns_out_of_view_ = false;            // the tape last seen turned out of the view
+  double odometer_m_ = 0.0;                   // distance driven since the start
+  std::optional<double> corner_passed_at_m_;  // odometer when tape was last remembered only
 };
 
 }  // namespace agv::perception

@@ -126,6 +126,27 @@ TEST(LineEstimator, MeasuresATapeWidthThatWasNotGiven) {
   }
 }
 
+// A line running into an arc of R 0.3 m in the middle of the view (0.30 m ahead), the vehicle
+// on the line: the errors at the origin are the line's, carried back (the arc starts ahead of
+// the vehicle), not those of one arc fitted across the joint. Bars: within 1 mm and 0.5 deg on
+// every frame (one arc through the joint is 2-5 mm and 1-3 deg off here).
+TEST(LineEstimator, ALineIntoAnArcInViewIsCarriedBackAsTheLine) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  pipeline::Scene scene = testing::straight_tape_scene();
+  scene.tapes[0].path =
+      control::Path::starting_at({-2.0, 0.0, 0.0}).add_line(2.3).add_arc(0.3, deg_to_rad(90.0));
+  const pipeline::FrameRenderer renderer(camera, scene);
+  const LineEstimator estimator(camera, hinted(scene));
+  for (int i = 0; i < 6; ++i) {
+    const Pose2 pose{-0.02 + 0.01 * i, 0.004 * std::sin(i), deg_to_rad(2.0) * std::cos(i)};
+    const LineMeasurement m = estimator.estimate(renderer.render(pose, {0.3, 0.0, 0.0}, i), 0.0);
+    ASSERT_TRUE(m.line_found) << i;
+    // Truth for the line along x: e_theta = yaw, e_d = y.
+    EXPECT_NEAR(m.e_d_m, pose.y_m, 0.001) << i;
+    EXPECT_NEAR(rad_to_deg(m.e_theta_rad), rad_to_deg(pose.yaw_rad), 0.5) << i;
+  }
+}
+
 // A configured width is a hint: 50 mm tape with 25 mm configured (the real case of a user who
 // kept the default) is found on every frame and its width measured (within 5 %, as above).
 TEST(LineEstimator, AConfiguredWidthIsAHint) {
