@@ -420,4 +420,11 @@ CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, doubl
   return m;
 }
 
+CurveModel curve_in_frame(double frame_rad, double offset_m, double slope, double second_1_m) {
+  const double c = std::cos(frame_rad), s = std::sin(frame_rad);
+  const double k = second_1_m / std::pow(1.0 + slope * slope, 1.5);
+  return curve_through_point(Eigen::Vector2d(-s * offset_m, c * offset_m),
+                             frame_rad + std::atan(slope), k);
+}
+
 }  // namespace agv::perception

@@ -135,4 +135,8 @@ std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::V
 // as the model of the vehicle origin's foot point on it (CurveModel's parametrisation).
 CurveModel curve_through_point(const Eigen::Vector2d& p0, double heading0, double k);
 
+// The curve y(x) = offset + slope x + second x^2 / 2 near x = 0, in a frame turned by frame_rad
+// about the vehicle origin, as its model at the origin (the curvature y'' / (1 + y'^2)^1.5).
+CurveModel curve_in_frame(double frame_rad, double offset_m, double slope, double second_1_m);
+
 }  // namespace agv::perception

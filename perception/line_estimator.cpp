@@ -165,9 +165,7 @@ std::optional<CurveModel> nearest_piece(const std::vector<Chord>& chords, const 
         slope = line ? straight[1] : bent[1];
         curvature = line ? 0.0 : 2.0 * bent[2];
       }
-      const double k = curvature / std::pow(1.0 + slope * slope, 1.5);
-      return curve_through_point(Eigen::Vector2d(-s * offset, c * offset),
-                                 frame_rad + std::atan(slope), k);
+      return curve_in_frame(frame_rad, offset, slope, curvature);
     }
     frame_rad += std::atan(fit->slope);
   }

@@ -150,6 +150,16 @@ class EvidenceIndex {
   std::vector<bool> computed_;
 };
 
+// `in_view` with its errors and curvature from the remembered tape's model at the origin.
+LineMeasurement with_model(const LineMeasurement& in_view, const CurveModel& model) {
+  LineMeasurement m = in_view;
+  m.e_d_m = model.e_d_m;
+  m.e_theta_rad = wrap_angle_rad(-model.heading_rad);
+  m.curvature_1_m = model.curvature_1_m;
+  m.extrapolated = false;
+  return m;
+}
+
 Eigen::Vector2d rotated(const Eigen::Vector2d& p, double angle_rad) {
   const double c = std::cos(angle_rad), s = std::sin(angle_rad);
   return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
@@ -283,16 +293,8 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     if (std::abs(fit->slope) < 0.02 || pass == 2) break;
     frame_rad += std::atan(fit->slope);
   }
-  const double slope_angle = std::atan(fit->slope);
-  const double k = fit->curvature_1_m / std::pow(1.0 + fit->slope * fit->slope, 1.5);
-  const CurveModel model =
-      curve_through_point(rotated({0.0, fit->offset_m}, frame_rad), frame_rad + slope_angle, k);
-  LineMeasurement m = in_view;
-  m.e_d_m = model.e_d_m;
-  m.e_theta_rad = wrap_angle_rad(-model.heading_rad);
-  m.curvature_1_m = model.curvature_1_m;
-  m.extrapolated = false;
-  return m;
+  return with_model(in_view,
+                    curve_in_frame(frame_rad, fit->offset_m, fit->slope, fit->curvature_1_m));
 }
 
 std::optional<LineMeasurement> PathMemory::across_gap(
@@ -398,16 +400,8 @@ std::optional<LineMeasurement> PathMemory::across_gap(
     second =
         ((12 * t - 6) * y0 + (6 * t - 4) * m0 + (-12 * t + 6) * y1 + (6 * t - 2) * m1) / (h * h);
   }
-  const double k = second / std::pow(1.0 + slope * slope, 1.5);
-  const double angle = frame_rad + chord_rad;  // the chord frame in the vehicle frame
-  const CurveModel model =
-      curve_through_point(rotated({0.0, y}, angle), angle + std::atan(slope), k);
-  LineMeasurement m = in_view;
-  m.e_d_m = model.e_d_m;
-  m.e_theta_rad = wrap_angle_rad(-model.heading_rad);
-  m.curvature_1_m = model.curvature_1_m;
-  m.extrapolated = false;
-  return m;
+  // The chord frame in the vehicle frame is turned by frame_rad + chord_rad.
+  return with_model(in_view, curve_in_frame(frame_rad + chord_rad, y, slope, second));
 }
 
 void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
