@@ -111,7 +111,8 @@ std::optional<PredictedBand> band_of(const LineDetection& previous, const cv::Si
 // Where the followed line's evidence is two pieces joined at a breakpoint (a line running
 // into an arc, a fork's trunk into its branch): the model of the piece nearest the vehicle,
 // carried back to the origin; nullopt when one piece explains it about as well (fit_joined_arcs,
-// in a frame at the origin along `model`, turned by the fit's slope up to twice). The near piece
+// in a frame turned about the origin to `model`'s direction where the evidence comes nearest,
+// then by the fit's slope up to twice). The near piece
 // is a line unless its own points show a bend (Bayesian information criterion): carried back
 // 0.2-0.4 m, a curvature of noise alone would move the line by millimetres.
 std::optional<CurveModel> nearest_piece(const std::vector<Chord>& chords, const DetectedLine& line,
@@ -119,14 +120,12 @@ std::optional<CurveModel> nearest_piece(const std::vector<Chord>& chords, const 
   JoinedArcsOptions options;
   options.both_sides = false;
   options.min_piece_m = 0.04;
-  // The first frame along the model where the evidence comes nearest the vehicle.
-  double s_near = 1e9;
+  if (line.clean_chords.empty()) return std::nullopt;
+  double s_near = model.arc_position(chords[line.clean_chords.front()].centre());
   for (int index : line.clean_chords) {
-    const Eigen::Vector2d centre = chords[index].centre();
-    if (centre.norm() < 1e8 && std::abs(model.arc_position(centre)) < std::abs(s_near))
-      s_near = model.arc_position(centre);
+    const double s = model.arc_position(chords[index].centre());
+    if (std::abs(s) < std::abs(s_near)) s_near = s;
   }
-  if (!(std::abs(s_near) < 1e8)) return std::nullopt;
   const Eigen::Vector2d t = model.tangent_at(s_near);
   double frame_rad = std::atan2(t.y(), t.x());
   for (int pass = 0; pass < 3; ++pass) {
