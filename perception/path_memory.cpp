@@ -324,7 +324,7 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   double last_behind = 0.0, first_ahead = 0.0, best = 2.0 * options_.min_cover_m;
   for (size_t j = 0; j + 1 < along.size(); ++j) {
     if (along[j + 1] - along[j] < kContiguous_m) continue;
-    const double outside = std::max({0.0, along[j] - 0.0, 0.0 - along[j + 1]});
+    const double outside = std::max({0.0, along[j], -along[j + 1]});  // origin at 0
     if (outside >= best) continue;
     best = outside;
     last_behind = along[j];

@@ -36,9 +36,10 @@ struct PathMemoryOptions {
   // before it and the first after it, the gap no longer than max_gap_m.
   double gap_end_m = 0.04;
   double max_gap_m = 0.3;
-  double max_gap_turn_rad = 0.5;  // ... the tape's directions at its two ends this near (else
-  double max_gap_offset_m =
-      0.005;  //   the line through the end ahead, passing this near the other)
+  // ... the tape's directions at its two ends this near, else the line through the end ahead,
+  // passing this near the end behind.
+  double max_gap_turn_rad = 0.5;
+  double max_gap_offset_m = 0.005;
   double bridge_after_corner_m = 0.5;  // ... within this travel of a corner (remembered only)
   // Registration: how well a centre-line point is known. Not its own noise (0.1 mm) but the
   // bias it shares with its neighbours in one frame (0.05-0.1 mm over 0.1 m of wide tape), which
@@ -112,8 +113,9 @@ class PathMemory {
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Where no tape was seen under the vehicle but some behind it and some ahead, just past a
   // corner (the camera looked beyond the tape that then came under the vehicle): the errors at the
-  // origin from a quadratic through the nearest of both, the gap at most max_gap_m, their
-  // directions within max_gap_turn_rad.
+  // origin from a cubic joining the two ends with their values and directions (the gap at most
+  // max_gap_m), or from the line through the end ahead where their directions differ by more
+  // than max_gap_turn_rad and that line passes within max_gap_offset_m of the end behind.
   std::optional<LineMeasurement> across_gap(const LineMeasurement& in_view,
                                             const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // A frame without tape in view after tape that turned out of the view: the errors from the
