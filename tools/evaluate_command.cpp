@@ -76,7 +76,14 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
 
 namespace {
 
-// One row per frame of the sequences; the draw of each sequence in its last column.
+// A CSV field in double quotes (RFC 4180: a quote inside is doubled), for text with commas.
+std::string csv_quoted(const std::string& text) {
+  std::string quoted = "\"";
+  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+// One row per frame of the sequences; the draw of each sequence, quoted, in its last column.
 void write_sequences_csv(const pipeline::SequenceBenchmarkResult& sequences,
                          const std::string& file) {
   std::ofstream csv(file);
@@ -91,7 +98,7 @@ void write_sequences_csv(const pipeline::SequenceBenchmarkResult& sequences,
         << f.line_found << ',' << f.extrapolated << ',' << f.remembered_only << ',' << f.error_e_d_m
         << ',' << f.error_e_theta_rad << ',' << f.measured_width_m << ',' << f.true_width_m << ','
         << f.perceive_ms << ',' << reason << ','
-        << sequences.sequence_texts[static_cast<std::size_t>(f.sequence)] << '\n';
+        << csv_quoted(sequences.sequence_texts[static_cast<std::size_t>(f.sequence)]) << '\n';
   }
   if (!csv) throw InputError(file + ": cannot write the sequences");
 }

@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -81,7 +82,7 @@ TEST_F(AgvCli, JsonSummaryOnStdout) {
 TEST_F(AgvCli, EvaluateDrivesSequencesOfTheNamedPieces) {
   const Result r = run(
       "evaluate --quiet --conditions 1 --frames-per-condition 1 --empty-conditions 0 --sequences 1 "
-      "--empty-sequences 1 --sequence-length-m 1 --sequence-pieces line,arc --out " +
+      "--empty-sequences 1 --sequence-length-m 1 --sequence-pieces line,fork --out " +
       path("eval"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("sequences 1 (100 frames"), std::string::npos) << r.output;
@@ -89,10 +90,18 @@ TEST_F(AgvCli, EvaluateDrivesSequencesOfTheNamedPieces) {
   std::string header, line;
   std::getline(csv, header);
   EXPECT_EQ(header.rfind("sequence,has_tape,piece,travelled_m,line_found,", 0), 0u) << header;
+  const auto columns = std::count(header.begin(), header.end(), ',') + 1;
   int rows = 0, with_tape = 0;
   while (std::getline(csv, line)) {
     ++rows;
     with_tape += line.rfind("0,1,", 0) == 0 ? 1 : 0;
+    // The last column, the draw, has commas ("fork(branch left ..., take straight)"): it is
+    // quoted, and the row has the header's columns before it.
+    const std::size_t quote = line.find('"');
+    ASSERT_NE(quote, std::string::npos) << line;
+    EXPECT_EQ(line.back(), '"') << line;
+    EXPECT_EQ(std::count(line.begin(), line.begin() + static_cast<long>(quote), ','), columns - 1)
+        << line;
   }
   EXPECT_EQ(rows, 200);  // 1 m at 10 mm a frame, with and without tape
   EXPECT_EQ(with_tape, 100);
@@ -101,7 +110,7 @@ TEST_F(AgvCli, EvaluateDrivesSequencesOfTheNamedPieces) {
   EXPECT_EQ(j["sequences"]["frames_with_tape"].get<int>(), 100);
   EXPECT_EQ(j["sequences"]["frames_without_tape"].get<int>(), 100);
   for (const auto& [piece, figures] : j["sequences"]["by_piece"].items())
-    EXPECT_TRUE(piece == "line" || piece == "arc") << piece;
+    EXPECT_TRUE(piece == "line" || piece == "fork") << piece;
   const Result bad = run("evaluate --sequence-pieces line,zigzag");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("zigzag"), std::string::npos) << bad.output;
