@@ -175,6 +175,7 @@ void PathMemory::reset() {
   last_odometry_.reset();
   tape_heading_rad_.reset();
   corner_passed_at_m_.reset();
+  last_course_.reset();
 }
 
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
@@ -591,11 +592,40 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
     return *m;
   }
   tape_heading_rad_.reset();
+  if (std::optional<LineMeasurement> forward = carried_forward(carried_back)) return *forward;
   return carried_back;
 }
 
 void PathMemory::remember_heading(const LineMeasurement& m) {
   tape_heading_rad_ = vehicle_.yaw_rad - m.e_theta_rad;  // e_theta = vehicle yaw - tape yaw
+  const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+  last_course_ = Course{vehicle_.transform(model.foot_point()), *tape_heading_rad_, m.curvature_1_m,
+                        odometer_m_};
+}
+
+std::optional<LineMeasurement> PathMemory::carried_forward(
+    const LineMeasurement& carried_back) const {
+  if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.carry_forward_m ||
+      std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
+    return std::nullopt;
+  const CurveModel course = curve_through_point(vehicle_.inverse().transform(last_course_->foot_m),
+                                                last_course_->heading_rad - vehicle_.yaw_rad,
+                                                last_course_->curvature_1_m);
+  // The line in view continues the course where it passes through the course's last foot point
+  // (within a tape width), whichever way it turns there (the vehicle may have left an arc for the
+  // line after it), or through the course's foot point now (within half a tape width: the tape
+  // under the vehicle on either).
+  const CurveModel in_view{carried_back.e_d_m, -carried_back.e_theta_rad,
+                           carried_back.curvature_1_m};
+  const Eigen::Vector2d last_foot = vehicle_.inverse().transform(last_course_->foot_m);
+  constexpr double kNarrowTape_m = 0.01;  // the tolerance for narrower tapes
+  const double width_m = std::max(tape_width_m_, kNarrowTape_m);
+  if (std::abs(in_view.signed_distance(last_foot)) <= width_m ||
+      std::abs(in_view.signed_distance(course.foot_point())) <= 0.5 * width_m)
+    return std::nullopt;
+  LineMeasurement m = with_model(carried_back, course);
+  m.extrapolated = true;
+  return m;
 }
 
 bool PathMemory::turns_out_of_view(const LineDetection& detection) {

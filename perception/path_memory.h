@@ -41,6 +41,14 @@ struct PathMemoryOptions {
   double max_gap_turn_rad = 0.5;
   double max_gap_offset_m = 0.005;
   double bridge_after_corner_m = 0.5;  // ... within this travel of a corner (remembered only)
+  // Inside a sharp corner the camera sees another leg or a crossing tape, not the arc the vehicle
+  // is on. Where the remembered tape no longer reaches the origin, the tape last measured under
+  // the vehicle bent at least this much (a corner's arc, not a fork's stem: there the line in
+  // view is the way chosen), and the line in view, carried back, passes neither within a tape
+  // width of where that was nor within half a tape width of that arc carried forward to the
+  // origin: that arc carried forward, for at most carry_forward_m.
+  double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
+  double carry_forward_m = 0.2;
   // Registration: how well a centre-line point is known. Not its own noise (0.1 mm) but the
   // bias it shares with its neighbours in one frame (0.05-0.1 mm over 0.1 m of wide tape), which
   // hundreds of points do not average out: at 0.1 mm the registration turned the memory by 0.5
@@ -124,8 +132,12 @@ class PathMemory {
   // Whether the followed tape turns away by more than 45 deg from the vehicle's heading where
   // its evidence ends farthest ahead (a corner the camera is passing).
   static bool turns_out_of_view(const LineDetection& detection);
-  // Keeps the tape's direction under the vehicle (memory frame) from a measurement at the origin.
+  // Keeps the tape's direction under the vehicle (memory frame) from a measurement at the origin,
+  // and the course there.
   void remember_heading(const LineMeasurement& m);
+  // The course last measured under the vehicle, moved to this frame's origin (an arc goes on as
+  // an arc), where options_.carry_forward_* say so (above); else nothing.
+  std::optional<LineMeasurement> carried_forward(const LineMeasurement& carried_back) const;
   // Where the curvature of the tape ahead of the origin changes, and to what (m's preview
   // fields), from local fits along the remembered and seen tape.
   void add_preview(const std::vector<Eigen::Vector2d>& in_vehicle, LineMeasurement* m) const;
@@ -146,6 +158,13 @@ class PathMemory {
   bool turns_out_of_view_ = false;            // the tape last seen turned out of the view
   double odometer_m_ = 0.0;                   // distance driven since the start
   std::optional<double> corner_passed_at_m_;  // odometer when tape was last remembered only
+  // The course last measured under the vehicle: its foot point, direction (memory frame) and
+  // curvature, and the odometer then.
+  struct Course {
+    Eigen::Vector2d foot_m;
+    double heading_rad, curvature_1_m, odometer_m;
+  };
+  std::optional<Course> last_course_;
 };
 
 }  // namespace agv::perception
