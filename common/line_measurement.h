@@ -21,8 +21,9 @@ struct LineMeasurement {
   // The errors come from the line in view carried back to the vehicle (no remembered tape under
   // it yet), not from the tape under the vehicle.
   bool extrapolated = false;
-  // No tape in view: the errors come from the remembered tape under the vehicle alone (the
-  // camera, ahead of the vehicle, has passed a corner), placed by the odometry.
+  // No line in view: the errors come from the remembered tape under the vehicle alone (the
+  // camera, ahead of the vehicle, has passed a corner, or the line was refused where the frame
+  // still shows the tape where it is remembered), placed by the odometry.
   bool remembered_only = false;
   // The tape ahead (preview): the curvature changes to curvature_ahead_1_m this far ahead of the
   // foot point, along the tape; infinite when no change is seen.

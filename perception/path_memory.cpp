@@ -557,7 +557,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
   grow_misalignment(travelled_m, kind);  // every frame, also those without tape in view
-  if (!in_view.line_found) return remembered_only(in_view);
+  if (!in_view.line_found) return remembered_only(in_view, detection);
   if (detection.followed < 0 || detection.followed >= static_cast<int>(detection.lines.size()))
     return in_view;
 
@@ -608,9 +608,7 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.carry_forward_m ||
       std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
     return std::nullopt;
-  const CurveModel course = curve_through_point(vehicle_.inverse().transform(last_course_->foot_m),
-                                                last_course_->heading_rad - vehicle_.yaw_rad,
-                                                last_course_->curvature_1_m);
+  const CurveModel course = last_course_now();
   // The line in view continues the course where it passes through the course's last foot point
   // (within a tape width), whichever way it turns there (the vehicle may have left an arc for the
   // line after it), or through the course's foot point now (within half a tape width: the tape
@@ -638,12 +636,48 @@ bool PathMemory::turns_out_of_view(const LineDetection& detection) {
   return std::abs(std::atan2(t.y(), t.x())) > M_PI / 4.0;
 }
 
-LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
-  // No tape in view, the camera (ahead of the vehicle) having passed a corner: the tape last seen
-  // turned out of the view by more than 45 deg. The remembered tape under the vehicle, while it
-  // reaches both sides of the origin. Otherwise (a covered lens, a gap, the tape's end) the line
-  // is lost.
-  if (!tape_heading_rad_ || !turns_out_of_view_ || points_.empty()) return in_view;
+bool PathMemory::tape_seen_where_remembered(const LineDetection& detection,
+                                            const std::vector<Eigen::Vector2d>& in_vehicle) const {
+  // Chords about as wide as the tape whose centres lie on the remembered centre line or on the
+  // course last measured carried on ahead (as the tape's do; floor texture's land there by
+  // chance), over a stretch of the view.
+  const double gate_m = options_.seen_again_gate_m;
+  const PointGrid grid(in_vehicle, gate_m);
+  const CurveModel::Prepared course = last_course_now().prepared();
+  int on_tape = 0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Chord& chord : detection.chords) {
+    if (std::abs((chord.a - chord.b).norm() - tape_width_m_) >
+        options_.seen_again_width_tolerance * tape_width_m_)
+      continue;
+    const Eigen::Vector2d c = chord.centre();
+    bool near = std::abs(course.signed_distance(c)) <= gate_m;
+    grid.for_each_near(c, [&](size_t j) { near = near || (in_vehicle[j] - c).norm() <= gate_m; });
+    if (!near) continue;
+    ++on_tape;
+    lo = std::min(lo, c.norm());
+    hi = std::max(hi, c.norm());
+  }
+  return on_tape >= options_.min_points && hi - lo >= options_.seen_again_span_m;
+}
+
+CurveModel PathMemory::last_course_now() const {
+  return curve_through_point(vehicle_.inverse().transform(last_course_->foot_m),
+                             last_course_->heading_rad - vehicle_.yaw_rad,
+                             last_course_->curvature_1_m);
+}
+
+LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
+                                            const LineDetection& detection) {
+  // No line in view. The remembered tape under the vehicle, while it reaches both sides of the
+  // origin, where the camera (ahead of the vehicle) has passed a corner (the tape last seen
+  // turned out of the view by more than 45 deg), or where the frame still shows the tape where
+  // it is remembered (perception refused the line: a floor texture, glare). Otherwise (a
+  // covered lens, a gap, the tape's end) the line is lost.
+  if (!tape_heading_rad_ || !last_course_ || points_.empty()) return in_view;
+  const bool past_corner = turns_out_of_view_;
+  if (!past_corner && !tape_seen_where_remembered(detection, points_in_vehicle_frame()))
+    return in_view;
   std::optional<LineMeasurement> m = at_origin(in_view, points_in_vehicle_frame());
   if (!m) {
     tape_heading_rad_.reset();
@@ -651,7 +685,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view) {
   }
   m->line_found = true;
   m->remembered_only = true;
-  corner_passed_at_m_ = odometer_m_;
+  if (past_corner) corner_passed_at_m_ = odometer_m_;
   m->lines_seen = 0;
   m->confidence = 0.5;  // no evidence in this frame
   m->points_used = 0;

@@ -49,6 +49,12 @@ struct PathMemoryOptions {
   // origin: that arc carried forward, for at most carry_forward_m.
   double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
   double carry_forward_m = 0.2;
+  // A frame whose line perception refused still shows the tape where it is remembered when at
+  // least min_points of its chords have their centres this near remembered centre-line points,
+  // spread over this much of the view.
+  double seen_again_gate_m = 0.002;
+  double seen_again_span_m = 0.05;
+  double seen_again_width_tolerance = 0.3;  // ... and about as wide as the tape (a fraction)
   // Registration: how well a centre-line point is known. Not its own noise (0.1 mm) but the
   // bias it shares with its neighbours in one frame (0.05-0.1 mm over 0.1 m of wide tape), which
   // hundreds of points do not average out: at 0.1 mm the registration turned the memory by 0.5
@@ -126,9 +132,15 @@ class PathMemory {
   // than max_gap_turn_rad and that line passes within max_gap_offset_m of the end behind.
   std::optional<LineMeasurement> across_gap(const LineMeasurement& in_view,
                                             const std::vector<Eigen::Vector2d>& in_vehicle) const;
-  // A frame without tape in view after tape that turned out of the view: the errors from the
-  // remembered tape alone, where it lies under the vehicle; else `in_view` as it is.
-  LineMeasurement remembered_only(const LineMeasurement& in_view);
+  // A frame without a line in view, after tape that turned out of the view or with the tape
+  // still seen where remembered: the errors from the remembered tape alone, where it lies under
+  // the vehicle; else `in_view` as it is.
+  LineMeasurement remembered_only(const LineMeasurement& in_view, const LineDetection& detection);
+  // Whether at least min_points of the frame's chords, as wide as the remembered tape, have their
+  // centres within seen_again_gate_m of remembered centre-line points (vehicle frame) or of the
+  // course last measured carried on, over seen_again_span_m.
+  bool tape_seen_where_remembered(const LineDetection& detection,
+                                  const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Whether the followed tape turns away by more than 45 deg from the vehicle's heading where
   // its evidence ends farthest ahead (a corner the camera is passing).
   static bool turns_out_of_view(const LineDetection& detection);
@@ -138,6 +150,8 @@ class PathMemory {
   // The course last measured under the vehicle, moved to this frame's origin (an arc goes on as
   // an arc), where options_.carry_forward_* say so (above); else nothing.
   std::optional<LineMeasurement> carried_forward(const LineMeasurement& carried_back) const;
+  // The course last measured under the vehicle, moved to this frame's origin (last_course_ set).
+  CurveModel last_course_now() const;
   // Where the curvature of the tape ahead of the origin changes, and to what (m's preview
   // fields), from local fits along the remembered and seen tape.
   void add_preview(const std::vector<Eigen::Vector2d>& in_vehicle, LineMeasurement* m) const;

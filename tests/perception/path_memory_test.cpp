@@ -470,6 +470,61 @@ TEST(PathMemory, InsideASharpCornerAnotherTapeInViewDoesNotReplaceTheArc) {
   EXPECT_GT(back.max_e_d_error_m, 0.2);
 }
 
+// Along a straight tape, perception refuses the line in frames 20-29 (a floor texture, glare):
+// `refused` says what those frames still show. The tape's chords where it is remembered: the
+// errors from the remembered tape, flagged remembered only, within 0.1 mm / 0.1 deg (exact
+// evidence and odometry: the fit's own figures). Chords 20 mm beside the tape (texture), or
+// none (a covered lens): the line is lost in each of those frames. Counts the frames of each.
+enum class Refused { kTapeChords, kChordsBeside, kNothing };
+struct RefusedDrive {
+  int remembered = 0, lost = 0;
+  double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;
+};
+RefusedDrive drive_refused(Refused refused) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory;
+  RefusedDrive r;
+  for (int k = 0; k < 40; ++k) {
+    const double s = 0.05 + 0.02 * k;
+    const Pose2 vehicle{path.point_at(s).x(), path.point_at(s).y(), path.heading_at(s)};
+    LineMeasurement seen;
+    seen.line_found = true;
+    LineDetection d = seen_from(path, vehicle, s);
+    const bool refuse = k >= 20 && k < 30;
+    if (refuse) {
+      seen.line_found = false;
+      d.lines.clear();
+      d.followed = -1;
+      if (refused == Refused::kNothing) d.chords.clear();
+      if (refused == Refused::kChordsBeside)
+        for (Chord& chord : d.chords) {
+          chord.a.y() += 0.02;
+          chord.b.y() += 0.02;
+        }
+    }
+    const LineMeasurement m = memory.update(seen, d, vehicle);
+    if (!refuse) continue;
+    if (!m.line_found) {
+      ++r.lost;
+      continue;
+    }
+    EXPECT_TRUE(m.remembered_only) << k;
+    ++r.remembered;
+    r.max_e_d_error_m = std::max(r.max_e_d_error_m, std::abs(m.e_d_m));
+    r.max_e_theta_error_rad = std::max(r.max_e_theta_error_rad, std::abs(m.e_theta_rad));
+  }
+  return r;
+}
+
+TEST(PathMemory, ALineRefusedWhereTheTapeIsStillSeenComesFromTheMemory) {
+  const RefusedDrive seen = drive_refused(Refused::kTapeChords);
+  EXPECT_EQ(seen.remembered, 10);
+  EXPECT_LE(seen.max_e_d_error_m, 1e-4);
+  EXPECT_LE(rad_to_deg(seen.max_e_theta_error_rad), 0.1);
+  EXPECT_EQ(drive_refused(Refused::kChordsBeside).lost, 10);
+  EXPECT_EQ(drive_refused(Refused::kNothing).lost, 10);
+}
+
 TEST(PathMemory, TapeLostStraightAheadIsLost) {
   const Blind r = drive_blind(false);
   EXPECT_EQ(r.remembered, 0);
