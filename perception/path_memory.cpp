@@ -221,6 +221,8 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
   int count = 0;
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;  // the overlap's bounding box
   EvidenceIndex index(evidence, line, options_.neighbourhood_m);
   for (const Eigen::Vector2d& p : *in_vehicle) {
     const std::optional<size_t> nearest = index.nearest(p);
@@ -235,8 +237,10 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
     jtj += j * j.transpose();
     jtd += j * d;
     ++count;
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
   }
-  if (count < options_.min_overlap_points) return;
+  if (count < options_.min_overlap_points || (hi - lo).norm() < options_.min_overlap_span_m) return;
   // The most likely correction given the points (each good to point_sigma_m) and how far the
   // memory may be out of line: along a straight tape the points say nothing of the shift along
   // it, and the prior keeps it where the odometry put it.

@@ -31,7 +31,11 @@ struct PathMemoryOptions {
   double gate_m = 0.003;           // remembered points this near the tape in view are the same tape
   double neighbourhood_m = 0.008;  // the tape's local direction from its evidence this near
   int min_overlap_points = 20;     // registration needs this many of them
-  double max_jump_m = 0.3;         // odometry that moves further between frames restarts the memory
+  // ... over at least this much of the tape (the diagonal of their bounding box): the chords of a
+  // short stretch, near a joint or where the tape leaves the view, share a bias (1.8 mm across
+  // 25 mm of 54 mm tape just past a corner in agv evaluate) that would stay in the memory.
+  double min_overlap_span_m = 0.04;
+  double max_jump_m = 0.3;  // odometry that moves further between frames restarts the memory
   // Across a gap in the remembered tape under the vehicle: the last gap_end_m of the tape
   // before it and the first after it, the gap no longer than max_gap_m.
   double gap_end_m = 0.04;
