@@ -39,6 +39,14 @@ LineDetection seen_from(const control::Path& path, const Pose2& vehicle, double 
   return d;
 }
 
+// Keeps the largest errors of `m` against the truth.
+void keep_worst(const LineMeasurement& m, const control::TrackingError& truth, double* e_d_m,
+                double* e_theta_rad) {
+  *e_d_m = std::max(*e_d_m, std::abs(m.e_d_m - truth.e_d_m));
+  *e_theta_rad =
+      std::max(*e_theta_rad, std::abs(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)));
+}
+
 struct Drive {
   int frames = 0, extrapolated = 0, from_memory = 0;
   double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;  // frames from memory
@@ -87,9 +95,7 @@ Drive drive(double scale_error, double yaw_drift_rad_per_m) {
     }
     if (k < 5) r.first_frames_extrapolated = false;
     ++r.from_memory;
-    r.max_e_d_error_m = std::max(r.max_e_d_error_m, std::abs(m.e_d_m - truth.e_d_m));
-    r.max_e_theta_error_rad = std::max(r.max_e_theta_error_rad,
-                                       std::abs(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)));
+    keep_worst(m, truth, &r.max_e_d_error_m, &r.max_e_theta_error_rad);
   }
   return r;
 }
@@ -334,9 +340,7 @@ WindowDrive drive_window(const PathMemoryOptions& options) {
       continue;
     }
     r.extrapolated += m.extrapolated ? 1 : 0;
-    r.max_e_d_error_m = std::max(r.max_e_d_error_m, std::abs(m.e_d_m - truth.e_d_m));
-    r.max_e_theta_error_rad = std::max(r.max_e_theta_error_rad,
-                                       std::abs(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)));
+    keep_worst(m, truth, &r.max_e_d_error_m, &r.max_e_theta_error_rad);
   }
   return r;
 }
@@ -440,9 +444,7 @@ CrossingDrive drive_past_another_tape(const PathMemoryOptions& options) {
     const bool from_the_other = other && m.e_d_m == seen.e_d_m;
     r.carried_back += from_the_other ? 1 : 0;
     r.carried_forward += other && !from_the_other && m.extrapolated ? 1 : 0;
-    r.max_e_d_error_m = std::max(r.max_e_d_error_m, std::abs(m.e_d_m - truth.e_d_m));
-    r.max_e_theta_error_rad = std::max(r.max_e_theta_error_rad,
-                                       std::abs(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)));
+    keep_worst(m, truth, &r.max_e_d_error_m, &r.max_e_theta_error_rad);
   }
   return r;
 }
