@@ -151,8 +151,9 @@ class PathMemory {
   // Keeps the tape's direction under the vehicle (memory frame) from a measurement at the origin,
   // and the course there.
   void remember_heading(const LineMeasurement& m);
-  // The course last measured under the vehicle, moved to this frame's origin (an arc goes on as
-  // an arc), where options_.carry_forward_* say so (above); else nothing.
+  // `carried_back` with its errors from the course last measured under the vehicle carried
+  // forward to the origin (an arc goes on as an arc), flagged extrapolated, where the
+  // options_.carry_forward_* above say so; else nothing.
   std::optional<LineMeasurement> carried_forward(const LineMeasurement& carried_back) const;
   // The course last measured under the vehicle, moved to this frame's origin (last_course_ set).
   CurveModel last_course_now() const;
@@ -175,7 +176,7 @@ class PathMemory {
   std::optional<double> tape_heading_rad_;    // the tape's direction at the origin, memory frame
   bool turns_out_of_view_ = false;            // the tape last seen turned out of the view
   double odometer_m_ = 0.0;                   // distance driven since the start
-  std::optional<double> corner_passed_at_m_;  // odometer when tape was last remembered only
+  std::optional<double> corner_passed_at_m_;  // odometer when last remembered only past a corner
   // The course last measured under the vehicle: its foot point, direction (memory frame) and
   // curvature, and the odometer then.
   struct Course {
