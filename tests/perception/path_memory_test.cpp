@@ -286,6 +286,19 @@ TEST(PathMemory, PastACornerTheRememberedTapeUnderTheVehicle) {
 // drives on the remembered tape, and once through the corner the window shows the outgoing leg
 // only beyond its near edge: the tape from the corner's end to there, under the vehicle a few
 // frames later, was never seen. Exact evidence and odometry.
+// Adds the chord across the tape at `centre` (world), running along `heading_rad`, to `d` and
+// `line` where its centre lies in the window; returns whether it does.
+bool add_chord_in_window(const Pose2& to_vehicle, const Eigen::Vector2d& centre, double heading_rad,
+                         LineDetection* d, DetectedLine* line) {
+  const Eigen::Vector2d normal(-std::sin(heading_rad), std::cos(heading_rad));
+  const Eigen::Vector2d c = to_vehicle.transform(centre);
+  if (c.x() < 0.17 || c.x() > 0.43 || std::abs(c.y()) > 0.1) return false;
+  d->chords.push_back({to_vehicle.transform(centre + 0.5 * kTapeWidthM * normal),
+                       to_vehicle.transform(centre - 0.5 * kTapeWidthM * normal)});
+  line->chords.push_back(static_cast<int>(d->chords.size()) - 1);
+  return true;
+}
+
 struct WindowDrive {
   int frames = 0, lost = 0, extrapolated = 0;
   double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;  // frames with a line
@@ -307,16 +320,9 @@ WindowDrive drive_window(const PathMemoryOptions& options) {
     LineDetection d;
     DetectedLine line;
     double s_last = 0.0;
-    for (double t = s; t <= s + 1.2; t += 0.004) {
-      const double heading = path.heading_at(t);
-      const Eigen::Vector2d normal(-std::sin(heading), std::cos(heading));
-      const Eigen::Vector2d centre = to_vehicle.transform(path.point_at(t));
-      if (centre.x() < 0.17 || centre.x() > 0.43 || std::abs(centre.y()) > 0.1) continue;
-      d.chords.push_back({to_vehicle.transform(path.point_at(t) + 0.5 * kTapeWidthM * normal),
-                          to_vehicle.transform(path.point_at(t) - 0.5 * kTapeWidthM * normal)});
-      line.chords.push_back(static_cast<int>(d.chords.size()) - 1);
-      s_last = t;
-    }
+    for (double t = s; t <= s + 1.2; t += 0.004)
+      if (add_chord_in_window(to_vehicle, path.point_at(t), path.heading_at(t), &d, &line))
+        s_last = t;
     LineMeasurement seen;
     seen.line_found = line.chords.size() >= 12;
     if (seen.line_found) {
@@ -400,12 +406,7 @@ CrossingDrive drive_past_another_tape(const PathMemoryOptions& options) {
     LineDetection d;
     DetectedLine line;
     auto add_chord = [&](const Eigen::Vector2d& centre, double heading) {
-      const Eigen::Vector2d normal(-std::sin(heading), std::cos(heading));
-      const Eigen::Vector2d c = to_vehicle.transform(centre);
-      if (c.x() < 0.17 || c.x() > 0.43 || std::abs(c.y()) > 0.1) return;
-      d.chords.push_back({to_vehicle.transform(centre + 0.5 * kTapeWidthM * normal),
-                          to_vehicle.transform(centre - 0.5 * kTapeWidthM * normal)});
-      line.chords.push_back(static_cast<int>(d.chords.size()) - 1);
+      add_chord_in_window(to_vehicle, centre, heading, &d, &line);
     };
     // That tape, followed the way that points forward of the vehicle.
     const double other_heading = std::cos(vehicle.yaw_rad) >= 0.0 ? 0.0 : M_PI;
