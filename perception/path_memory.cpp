@@ -680,9 +680,9 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
   // covered lens, a gap, the tape's end) the line is lost.
   if (!tape_heading_rad_ || !last_course_ || points_.empty()) return in_view;
   const bool past_corner = turns_out_of_view_;
-  if (!past_corner && !tape_seen_where_remembered(detection, points_in_vehicle_frame()))
-    return in_view;
-  std::optional<LineMeasurement> m = at_origin(in_view, points_in_vehicle_frame());
+  const std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
+  if (!past_corner && !tape_seen_where_remembered(detection, in_vehicle)) return in_view;
+  std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) {
     tape_heading_rad_.reset();
     return in_view;
@@ -693,7 +693,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
   m->lines_seen = 0;
   m->confidence = 0.5;  // no evidence in this frame
   m->points_used = 0;
-  add_preview(points_in_vehicle_frame(), &*m);  // the corner's remembered tape ahead
+  add_preview(in_vehicle, &*m);  // the remembered tape ahead
   remember_heading(*m);
   return *m;
 }
