@@ -34,9 +34,9 @@ CompareRun run_compare_job(const ComparePlan& plan, const CompareJob& job);
 // Called after each finished run with the number done and the total.
 using CompareProgress = std::function<void(int done, int total, const CompareRun& last)>;
 
-// Runs the given jobs of the plan on `threads` worker threads; threaded-loop jobs (which need the
-// machine to themselves to keep their clocks) run afterwards, one at a time. Returns the runs in
-// job order. The first error in any run is rethrown here after every worker has stopped.
+// Runs the given jobs of the plan on `threads` worker threads; threaded-loop jobs (real time:
+// they must not share the processors with lockstep runs to keep their clocks) run afterwards,
+// up to `threads` and the processors at a time. Returns the runs in job order. The first error in any run is rethrown here after every worker has stopped.
 std::vector<CompareRun> run_compare_jobs(const ComparePlan& plan, const std::vector<int>& jobs,
                                          int threads, const CompareProgress& progress = {});
 

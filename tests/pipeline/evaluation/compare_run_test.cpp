@@ -69,6 +69,45 @@ TEST(CompareRunner, ParallelRunsEqualSerialRunsInJobOrder) {
   expect_same_results(some[1], parallel[3]);
 }
 
+// Threaded runs (real time) run after the lockstep ones, several at a time: every run comes back,
+// in job order, whether the workers are one or several (under ThreadSanitizer: two threaded
+// loops side by side).
+TEST(CompareRunner, ThreadedRunsComeBackInJobOrder) {
+  ScenarioText suite;
+  suite.name = "suite.yaml";
+  suite.text = R"(
+controllers:
+  - {name: fs, set: {controller.kind: finite_step}}
+  - {name: pid, set: {controller.kind: pid}}
+scenarios:
+  - {name: short, set: {duration_s: 0.3}}
+latency_study:
+  scenario: short
+  frames: [0]
+  threaded: {camera_fps: 30.0, time_scale: 4.0, latency_frames: 1}
+)";
+  ScenarioText base;
+  base.text = pipeline::builtin_files().at("default_scenario.yaml");
+  base.name = "built-in default scenario";
+  base.builtin_files = pipeline::builtin_files();
+  const ComparePlan plan = plan_suite(load_suite(suite, base));
+  std::vector<int> all;
+  int threaded = 0;
+  for (const CompareJob& job : plan.jobs) {
+    all.push_back(job.index);
+    threaded += plan.scenarios[job.scenario].threaded ? 1 : 0;
+  }
+  ASSERT_GE(threaded, 4);  // two controllers, compensation on and off
+  for (int workers : {1, 2}) {
+    const std::vector<CompareRun> runs = run_compare_jobs(plan, all, workers);
+    ASSERT_EQ(runs.size(), all.size());
+    for (size_t j = 0; j < runs.size(); ++j) {
+      EXPECT_EQ(runs[j].job, all[j]);
+      EXPECT_FALSE(runs[j].t_s.empty());
+    }
+  }
+}
+
 TEST(CompareRunner, JsonRowsReadBackBitForBit) {
   const ComparePlan plan = small_plan();
   const CompareRun run = run_compare_job(plan, plan.jobs[0]);
