@@ -5,6 +5,8 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "common/vector_clones.h"
+
 namespace agv::perception {
 namespace {
 
@@ -159,18 +161,21 @@ cv::Mat bar_response_samples(const cv::Mat& frame, int channel, int bar, bool ho
     const size_t step = horizontal ? channels : frame.step[0];
     // sums[i]: the sum of the values at positions -pad .. i - pad - 1, clamped into the line.
     sums[0] = 0;
-    for (int i = 0; i < length + 2 * pad; ++i) {
-      const int at = std::clamp(i - pad, 0, length - 1);
-      sums[i + 1] = sums[i] + first[at * step];
-    }
-    // The mean of the window of `size` values whose middle (size / 2) is at position x.
-    auto mean = [&](int x, int size) {
+    const int before = first[0], after = first[(length - 1) * step];
+    for (int i = 0; i < pad; ++i) sums[i + 1] = sums[i] + before;
+    for (int at = 0; at < length; ++at) sums[pad + at + 1] = sums[pad + at] + first[at * step];
+    for (int i = pad + length; i < length + 2 * pad; ++i) sums[i + 1] = sums[i] + after;
+    // The mean of the window of `size` values whose middle (size / 2) is at position x
+    // (times the reciprocal of the size: divisions cost more than the rest of this loop).
+    const float inverse_bar = 1.0f / bar, inverse_flank = 1.0f / flank;
+    auto mean = [&](int x, int size, float inverse_size) {
       const int from = x - size / 2 + pad;
-      return static_cast<float>(sums[from + size] - sums[from]) / size;
+      return static_cast<float>(sums[from + size] - sums[from]) * inverse_size;
     };
     for (int x = 0; x < length; x += 2) {
-      const float response = mean(x, bar) - 0.5f * (mean(std::max(0, x - offset), flank) +
-                                                    mean(std::min(length - 1, x + offset), flank));
+      const float response = mean(x, bar, inverse_bar) -
+                             0.5f * (mean(std::max(0, x - offset), flank, inverse_flank) +
+                                     mean(std::min(length - 1, x + offset), flank, inverse_flank));
       if (horizontal) {
         out.at<float>(line / 2, x / 2) = response;
       } else {
@@ -192,12 +197,21 @@ class Distribution {
     cv::minMaxLoc(values, &lo, &hi);
     lo_ = static_cast<float>(lo);
     width_ = std::max(1e-12, (hi - lo) / kBins);
-    std::vector<int> counts(kBins, 0);
+    // Four interleaved histograms: floor values fall into a few bins, and one counter
+    // incremented again and again waits for its own last store.
+    std::vector<int> counts(4 * kBins, 0);
     const float* v = values.ptr<float>();
-    for (size_t i = 0; i < values.total(); ++i)
-      ++counts[std::min(kBins - 1, static_cast<int>((v[i] - lo_) / width_))];
+    const float inverse_width = static_cast<float>(1.0 / width_);
+    const size_t n = values.total();
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+      for (int lane = 0; lane < 4; ++lane) ++counts[lane * kBins + bin(v[i + lane], inverse_width)];
+    }
+    for (; i < n; ++i) ++counts[bin(v[i], inverse_width)];
     below_.resize(kBins + 1, 0);
-    for (int b = 0; b < kBins; ++b) below_[b + 1] = below_[b] + counts[b];
+    for (int b = 0; b < kBins; ++b)
+      below_[b + 1] =
+          below_[b] + counts[b] + counts[kBins + b] + counts[2 * kBins + b] + counts[3 * kBins + b];
   }
   // How many values lie at or below v.
   double count_below(double v) const {
@@ -217,6 +231,9 @@ class Distribution {
 
  private:
   static constexpr int kBins = 1024;
+  int bin(float value, float inverse_width) const {
+    return std::min(kBins - 1, static_cast<int>((value - lo_) * inverse_width));
+  }
   // x in [lo, hi] where the non-decreasing f reaches target (bisection to well below a bin).
   template <typename F>
   static double solve(F f, double target, double lo, double hi) {
@@ -231,6 +248,34 @@ class Distribution {
   double width_ = 1.0;
   std::vector<int> below_;
 };
+
+// Per sample, the strongest over the groups of `channels` responses (same size, CV_32F) of
+// their combination with the weights d: max over groups g of sum_c d[c] responses[g + c].
+// One pass, no temporaries.
+AGV_VECTOR_CLONES
+void strongest_combination(const std::vector<cv::Mat>& responses, int channels, const cv::Vec3d& d,
+                           cv::Mat* out) {
+  const cv::Mat& first = responses.front();
+  out->create(first.size(), CV_32F);
+  const size_t n = first.total();
+  const float w0 = static_cast<float>(d[0]), w1 = static_cast<float>(d[1]),
+              w2 = static_cast<float>(d[2]);
+  float* __restrict o = out->ptr<float>();
+  for (size_t g = 0; g < responses.size(); g += channels) {
+    const float* __restrict a = responses[g].ptr<float>();
+    if (channels == 1) {
+      for (size_t i = 0; i < n; ++i) o[i] = g == 0 ? a[i] : std::max(o[i], a[i]);
+      continue;
+    }
+    const float* __restrict b = responses[g + 1].ptr<float>();
+    const float* __restrict c = responses[g + 2].ptr<float>();
+    if (g == 0) {
+      for (size_t i = 0; i < n; ++i) o[i] = w0 * a[i] + w1 * b[i] + w2 * c[i];
+    } else {
+      for (size_t i = 0; i < n; ++i) o[i] = std::max(o[i], w0 * a[i] + w1 * b[i] + w2 * c[i]);
+    }
+  }
+}
 
 }  // namespace
 
@@ -267,26 +312,14 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
   double best_score = 0.0;
   std::optional<size_t> best;
   cv::Vec3d best_d;
-  cv::Mat response, combined, best_response;
+  cv::Mat response, best_response;
   for (size_t k = 0; k < candidates.size(); ++k) {
     cv::Vec3d d = candidates[k];
     if (channels == 1) d = cv::Vec3d::all((d[0] + d[1] + d[2]) / 3.0);
     const double norm = cv::norm(d);
     if (norm < 1e-9) continue;
     d /= norm;
-    for (size_t r = 0; r < responses.size(); r += channels) {
-      if (channels == 1) {
-        combined = responses[r];
-      } else {
-        cv::addWeighted(responses[r], d[0], responses[r + 1], d[1], 0.0, combined);
-        cv::scaleAdd(responses[r + 2], d[2], combined, combined);
-      }
-      if (r == 0) {
-        combined.copyTo(response);
-      } else {
-        cv::max(response, combined, response);
-      }
-    }
+    strongest_combination(responses, channels, d, &response);
     const Distribution levels(response);
     const double peak = levels.quantile(0.995);
     const double middle = levels.quantile(0.5);

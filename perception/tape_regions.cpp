@@ -58,24 +58,43 @@ cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
 }
 
 // Mean over `width` samples centred on each sample, along rows (horizontal) or columns, with
-// the edge samples repeated beyond the border; running sums, O(1) per sample.
+// the edge samples repeated beyond the border; running sums (in double, in the order of the
+// samples), O(1) per sample. Along columns, the sums of all columns run together, row by row.
 cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
-  const cv::Mat in = horizontal ? s : cv::Mat(s.t());
-  cv::Mat out(in.size(), CV_32F);
-  const int n = in.cols, before = (width - 1) / 2, after = width - 1 - before;
-  std::vector<double> prefix(n + width + 1);
-  for (int y = 0; y < in.rows; ++y) {
-    const float* row = in.ptr<float>(y);
-    float* o = out.ptr<float>(y);
-    prefix[0] = 0.0;
-    for (int i = 0; i < n + width; ++i) {
-      const int x = std::clamp(i - before, 0, n - 1);  // padded sample i is row[x]
-      prefix[i + 1] = prefix[i] + row[x];
+  cv::Mat out(s.size(), CV_32F);
+  const int n = horizontal ? s.cols : s.rows, before = (width - 1) / 2, after = width - 1 - before;
+  const double inverse_width = 1.0 / width;
+  if (horizontal) {
+    std::vector<double> prefix(n + width + 1);
+    for (int y = 0; y < s.rows; ++y) {
+      const float* row = s.ptr<float>(y);
+      float* o = out.ptr<float>(y);
+      prefix[0] = 0.0;
+      for (int i = 0; i < n + width; ++i) {
+        const int x = std::clamp(i - before, 0, n - 1);  // padded sample i is row[x]
+        prefix[i + 1] = prefix[i] + row[x];
+      }
+      for (int x = 0; x < n; ++x)
+        o[x] = static_cast<float>((prefix[x + before + after + 1] - prefix[x]) * inverse_width);
     }
-    for (int x = 0; x < n; ++x)
-      o[x] = static_cast<float>((prefix[x + before + after + 1] - prefix[x]) / width);
+    return out;
   }
-  return horizontal ? out : cv::Mat(out.t());
+  const int cols = s.cols;
+  cv::Mat prefix(n + width + 1, cols, CV_64F);
+  prefix.row(0).setTo(0.0);
+  for (int i = 0; i < n + width; ++i) {
+    const float* row = s.ptr<float>(std::clamp(i - before, 0, n - 1));
+    const double* previous = prefix.ptr<double>(i);
+    double* next = prefix.ptr<double>(i + 1);
+    for (int x = 0; x < cols; ++x) next[x] = previous[x] + row[x];
+  }
+  for (int y = 0; y < n; ++y) {
+    const double* low = prefix.ptr<double>(y);
+    const double* high = prefix.ptr<double>(y + before + after + 1);
+    float* o = out.ptr<float>(y);
+    for (int x = 0; x < cols; ++x) o[x] = static_cast<float>((high[x] - low[x]) * inverse_width);
+  }
+  return out;
 }
 
 // Bar response along rows (horizontal = true) or columns for a bar `width` samples wide:
