@@ -183,8 +183,15 @@ std::optional<Junction> find_junction(const std::vector<DetectedLine>& lines, do
 }
 
 void FollowHistory::update(const std::optional<double>& branch_heading,
-                           const std::optional<CurveModel>& line, std::optional<double> width_m) {
+                           const std::optional<CurveModel>& line, std::optional<double> width_m,
+                           const std::optional<ContrastAxis>& line_axis) {
   width.update(line ? width_m : std::nullopt);
+  if (line && line_axis) {
+    axis = line_axis;
+    frames_without_line = 0;
+  } else if (!line && ++frames_without_line > kForgetAxisAfterFrames) {
+    axis.reset();
+  }
   if (branch_heading) {
     branch_heading_rad = branch_heading;
     frames_without_branches = 0;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "perception/contrast_axis.h"
 #include "perception/line_set.h"
 #include "perception/tape_width_memory.h"
 
@@ -49,10 +50,18 @@ struct FollowHistory {
   int frames_without_branches = 0;  // frames since one showed a junction or several lines
   std::optional<CurveModel> followed;
   TapeWidthMemory width;  // the width of the tape followed so far
-  // Record one frame's choice (line: nullopt when no line was found; width_m: its width).
+  // The colour axis the tape followed was last found on (the full search tries it first: on a
+  // blotchy floor the axis chosen afresh can be the blotches'), forgotten after
+  // kForgetAxisAfterFrames frames without a line.
+  std::optional<ContrastAxis> axis;
+  int frames_without_line = 0;
+  // Record one frame's choice (line: nullopt when no line was found; width_m: its width; axis:
+  // the colour axis it was found on).
   void update(const std::optional<double>& branch_heading, const std::optional<CurveModel>& line,
-              std::optional<double> width_m = std::nullopt);
+              std::optional<double> width_m = std::nullopt,
+              const std::optional<ContrastAxis>& line_axis = std::nullopt);
   static constexpr int kForgetAfterFrames = 5;  // the junction is behind: choose anew
+  static constexpr int kForgetAxisAfterFrames = 30;
 };
 
 // The line to follow and its direction: without a junction, the best line; at a junction the

@@ -20,6 +20,13 @@ LineMeasurement not_found(double stamp_s, const std::string& reason, LineDetecti
   return m;
 }
 
+// Two colour axes whose weights point the same way in colour (within 90 deg: neighbouring
+// chroma directions both separate a coloured tape from its floor; the opposite polarity does
+// not).
+bool same_colour_direction(const ContrastAxis& a, const ContrastAxis& b) {
+  return a.weights.dot(b.weights) > 0.0f;
+}
+
 // Drops the lines whose width is unlike the tape followed in the frames before (history's
 // width memory); returns the reason when none is left, else an empty string.
 std::string drop_lines_unlike_the_tape(std::vector<DetectedLine>* lines,
@@ -237,13 +244,31 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
   for (int factor = 1; factor < ds; factor *= 2) {
     cv::resize(small, small, cv::Size(small.cols / 2, small.rows / 2), 0, 0, cv::INTER_AREA);
   }
+  // Where the axis this frame suggests points another way in colour than the one the tape
+  // followed was last found on (on a blotchy floor, the blotches' polarity can win), the
+  // remembered axis is searched first.
   const std::optional<ContrastAxis> axis =
       choose_contrast_axis(small, options_.tape.color_bgr, bar_widths_small_px_);
+  const std::optional<ContrastAxis> remembered = history ? history->axis : std::nullopt;
+  if (remembered && (!axis || !same_colour_direction(*axis, *remembered))) {
+    const LineMeasurement m = search_on_axis(frame, small, *remembered, stamp_s, &d, history);
+    if (m.line_found || !axis) return m;
+  }
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
+  return search_on_axis(frame, small, *axis, stamp_s, &d, history);
+}
+
+LineMeasurement LineEstimator::search_on_axis(const cv::Mat& frame, const cv::Mat& small,
+                                              const ContrastAxis& axis, double stamp_s,
+                                              LineDetection* detection,
+                                              const FollowHistory* history) const {
+  LineDetection& d = *detection;
+  d = LineDetection{};
+  const int ds = options_.downsample;
   const TapeRegions coarse =
-      find_tape_regions(small, *axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
+      find_tape_regions(small, axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
   if (coarse.regions.empty()) return not_found(stamp_s, "no tape-like region", &d);
-  d.axis = *axis;
+  d.axis = axis;
   d.floor_noise = coarse.floor_noise;
 
   // The bar response covers at least the tape's middle half: 0.6 of a width beyond it reaches
@@ -272,7 +297,7 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
     const bool rows_first = std::abs(region.direction.y) >= std::abs(region.direction.x);
     for (bool along_rows : {true, false}) {
       if (band && along_rows != rows_first) continue;
-      add_chords(scan_tape_edges(frame, *axis, coarse, region, along_rows, scan), &d);
+      add_chords(scan_tape_edges(frame, axis, coarse, region, along_rows, scan), &d);
     }
   }
 

@@ -39,7 +39,8 @@ struct LineDetection {
 
 // Finds the guide line(s) in a frame and reports the one to follow as (e_theta, e_d, curvature)
 // of the vehicle reference point (shared/DESIGN.md), through the camera's floor mapping:
-//  1. a linear colour axis (tape colour hint or automatic) turns the frame into contrast;
+//  1. a linear colour axis (tape colour hint or automatic) turns the frame into contrast; with a
+//     history, the axis the tape followed was last found on is tried first;
 //  2. on a 1/4-size copy, a bar detector tuned to the tape width, a threshold and connected
 //     regions say where tape may be;
 //  3. along full-resolution rows and columns across each region, the tape's two edges are found
@@ -103,6 +104,11 @@ class LineEstimator {
   // estimate() with the widths of this estimator only.
   LineMeasurement estimate_with_widths(const cv::Mat& frame, double stamp_s, LineDetection* details,
                                        const FollowHistory* history) const;
+  // The search for lines once the colour axis is known (steps 2-6 below), on the frame and its
+  // 1/downsample copy `small`.
+  LineMeasurement search_on_axis(const cv::Mat& frame, const cv::Mat& small,
+                                 const ContrastAxis& axis, double stamp_s, LineDetection* detection,
+                                 const FollowHistory* history) const;
 
   CameraModel camera_;
   Options options_;

@@ -42,7 +42,8 @@ LineMeasurement TrackingLineEstimator::measure(const cv::Mat& frame, double stam
   }
   history_.update(detection.branch_heading_rad,
                   m.line_found ? std::optional<CurveModel>(detection.followed_model) : std::nullopt,
-                  m.line_found ? std::optional<double>(m.tape_width_m) : std::nullopt);
+                  m.line_found ? std::optional<double>(m.tape_width_m) : std::nullopt,
+                  m.line_found ? std::optional<ContrastAxis>(detection.axis) : std::nullopt);
   if (details) *details = detection;
   if (m.line_found) {
     previous_ = std::move(detection);

@@ -90,6 +90,71 @@ TEST(LineEstimator, FindsTheTapeWithoutHintsForAnyPolarity) {
   }
 }
 
+// White tape on a light floor strewn with darker blotches: the colour axis chosen afresh is the
+// blotches' (darker; they stand out more than the tape), and no line or a wrong one comes of
+// it. With a history whose tape was found on the lighter axis, the full search tries that axis
+// first and finds the tape where the same frame without blotches puts it (within 0.3 mm and
+// 0.2 deg: the blotches keep a tape width away from it).
+TEST(LineEstimator, AFloorWhoseBlotchesOutshineTheTapeIsSearchedOnTheAxisTheTapeWasFoundOn) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  pipeline::Scene scene = testing::straight_tape_scene();
+  scene.tapes[0].color_bgr = {235, 235, 235};
+  scene.tapes[0].width_m = 0.014;
+  scene.floor.color_bgr = {180, 180, 180};
+  const pipeline::FrameRenderer renderer(camera, scene);
+  const Pose2 pose{1.0, 0.012, deg_to_rad(3.0)};
+  const cv::Mat clean = renderer.render(pose, {}, 1);
+  LineEstimator::Options no_hint;
+  no_hint.tape.width_m = 0.0;
+  const LineEstimator estimator(camera, no_hint);
+  LineDetection clean_detection;
+  const LineMeasurement reference = estimator.estimate(clean, 0.0, &clean_detection);
+  ASSERT_TRUE(reference.line_found);
+  ASSERT_GT(clean_detection.axis.weights[0], 0.0f);  // the tape is lighter than the floor
+
+  // Dark blotches 8-14 px across (10-18 mm here), none within 25 px of the tape.
+  cv::Mat tape_mask = clean > cv::Scalar(215, 215, 215);
+  cv::cvtColor(tape_mask, tape_mask, cv::COLOR_BGR2GRAY);
+  cv::Mat away_from_tape;
+  cv::distanceTransform(255 - tape_mask, away_from_tape, cv::DIST_L2, 3);
+  cv::Mat blotchy = clean.clone();
+  cv::RNG rng(5);
+  for (int k = 0; k < 400; ++k) {
+    const cv::Point centre(rng.uniform(0, blotchy.cols), rng.uniform(0, blotchy.rows));
+    const int radius = rng.uniform(4, 8);
+    if (away_from_tape.at<float>(centre) < 25.0f) continue;
+    cv::circle(blotchy, centre, radius, cv::Scalar(95, 95, 95), cv::FILLED, cv::LINE_AA);
+  }
+  LineDetection fresh;
+  const LineMeasurement without_history = estimator.estimate(blotchy, 0.0, &fresh);
+  ASSERT_LT(fresh.axis.weights[0], 0.0f) << "the blotches' darker axis must win for this test";
+  EXPECT_TRUE(!without_history.line_found ||
+              std::abs(without_history.e_d_m - reference.e_d_m) > 0.002);
+  FollowHistory history;
+  history.update(std::nullopt, clean_detection.followed_model, reference.tape_width_m,
+                 clean_detection.axis);
+  const LineMeasurement with_history = estimator.estimate(blotchy, 0.0, nullptr, &history);
+  ASSERT_TRUE(with_history.line_found);
+  EXPECT_NEAR(with_history.e_d_m, reference.e_d_m, 0.0003);
+  EXPECT_NEAR(rad_to_deg(with_history.e_theta_rad), rad_to_deg(reference.e_theta_rad), 0.2);
+}
+
+// The axis is remembered from the frames that found a line and forgotten after
+// kForgetAxisAfterFrames frames without one.
+TEST(FollowHistory, RemembersTheColourAxisOfTheTapeFollowed) {
+  FollowHistory history;
+  ContrastAxis axis;
+  axis.weights = {0.01f, 0.01f, 0.01f};
+  history.update(std::nullopt, CurveModel{}, 0.02, axis);
+  ASSERT_TRUE(history.axis.has_value());
+  for (int k = 0; k < FollowHistory::kForgetAxisAfterFrames; ++k) {
+    history.update(std::nullopt, std::nullopt);
+    ASSERT_TRUE(history.axis.has_value()) << k;
+  }
+  history.update(std::nullopt, std::nullopt);
+  EXPECT_FALSE(history.axis.has_value());
+}
+
 // No width configured (width 0: unknown): tape from 8 to 150 mm wide is found and its width
 // measured. The camera is higher for the widest tapes so that the tape fills at most half the
 // view (0.15 m up sees 0.19 m across; 0.30 m up, 0.37 m). Bars: every frame a line, the width
