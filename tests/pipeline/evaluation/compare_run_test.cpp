@@ -2,28 +2,35 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "common/input_error.h"
 #include "pipeline/config/builtin_files.h"
 
 namespace agv::pipeline {
 namespace {
 
-ComparePlan small_plan() {
+// The plan of a suite given as text, on the built-in default scenario.
+ComparePlan plan_of(const std::string& suite_text) {
   ScenarioText suite;
   suite.name = "suite.yaml";
-  suite.text = R"(
+  suite.text = suite_text;
+  ScenarioText base;
+  base.text = pipeline::builtin_files().at("default_scenario.yaml");
+  base.name = "built-in default scenario";
+  base.builtin_files = pipeline::builtin_files();
+  return plan_suite(load_suite(suite, base));
+}
+
+ComparePlan small_plan() {
+  return plan_of(R"(
 controllers:
   - {name: fs, set: {controller.kind: finite_step}}
   - {name: pid, set: {controller.kind: pid}}
 scenarios:
   - {name: short, set: {duration_s: 0.6}}
   - {name: fast, set: {duration_s: 0.6, path_speed_m_s: 0.5, controller.input: pose}}
-)";
-  ScenarioText base;
-  base.text = pipeline::builtin_files().at("default_scenario.yaml");
-  base.name = "built-in default scenario";
-  base.builtin_files = pipeline::builtin_files();
-  return plan_suite(load_suite(suite, base));
+)");
 }
 
 void expect_same_results(const CompareRun& a, const CompareRun& b) {
@@ -73,9 +80,7 @@ TEST(CompareRunner, ParallelRunsEqualSerialRunsInJobOrder) {
 // in job order, whether the workers are one or several (under ThreadSanitizer: two threaded
 // loops side by side).
 TEST(CompareRunner, ThreadedRunsComeBackInJobOrder) {
-  ScenarioText suite;
-  suite.name = "suite.yaml";
-  suite.text = R"(
+  const ComparePlan plan = plan_of(R"(
 controllers:
   - {name: fs, set: {controller.kind: finite_step}}
   - {name: pid, set: {controller.kind: pid}}
@@ -85,12 +90,7 @@ latency_study:
   scenario: short
   frames: [0]
   threaded: {camera_fps: 30.0, time_scale: 4.0, latency_frames: 1}
-)";
-  ScenarioText base;
-  base.text = pipeline::builtin_files().at("default_scenario.yaml");
-  base.name = "built-in default scenario";
-  base.builtin_files = pipeline::builtin_files();
-  const ComparePlan plan = plan_suite(load_suite(suite, base));
+)");
   std::vector<int> all;
   int threaded = 0;
   for (const CompareJob& job : plan.jobs) {
