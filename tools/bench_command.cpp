@@ -22,6 +22,7 @@
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/evaluation/output_folder.h"
+#include "pipeline/perceiver.h"
 #include "pipeline/sim/frame_renderer.h"
 #include "tools/build_info.h"
 #include "tools/peak_memory.h"
@@ -63,8 +64,9 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
       "bench",
       "Speed benchmark on the consecutive frames of a closed-loop run of the scenario (default: "
       "the built-in one, VGA): per-frame time (median, p99) and accuracy against the ground truth "
-      "of perception as the loop runs it (tracking between full searches), of the full search "
-      "alone, and of the usual GaussianBlur + Canny + HoughLinesP detector on the same frames; "
+      "of perception as the loop runs it (tracking between full searches, then the path memory "
+      "on the frames' wheel odometry), of the line estimator alone, of the full search alone, "
+      "and of the usual GaussianBlur + Canny + HoughLinesP detector on the same frames; "
       "render and control times; closed-loop frames per second.");
   sub->add_option("--scenario", args.scenario, "Scenario YAML (default: the built-in one)");
   sub->add_option("--set", args.overrides, "Override one scenario key")->type_name("KEY=VALUE");
@@ -98,6 +100,7 @@ int run_bench(const BenchArgs& args) {
   loop.loop.mode = pipeline::LoopMode::kLockstep;
   std::vector<Pose2> poses;
   std::vector<BodyTwist> twists;
+  std::vector<std::optional<Pose2>> odometry;
   std::vector<control::TrackingError> truths;
   const pipeline::RunResult run = pipeline::run_scenario(
       loop, {},
@@ -105,19 +108,23 @@ int run_bench(const BenchArgs& args) {
           const perception::LineDetection*) {
         poses.push_back(*frame.pose);
         twists.push_back(frame.twist);
+        odometry.push_back(frame.odometry);
         truths.push_back(*record.truth);
       });
   const double closed_loop_fps = run.rows.size() / std::max(1e-9, run.wall_s - run.setup_wall_s);
 
-  // Each frame measured three ways: tracking between searches (what the loop runs), the full
-  // search alone, and the Canny + HoughLinesP baseline; and one control step.
+  // Each frame measured four ways: perception as the loop runs it (tracking between searches,
+  // then the path memory on the frame's wheel odometry, when the scenario has one), the line
+  // estimator alone (tracking between searches), the full search alone, and the Canny +
+  // HoughLinesP baseline; and one control step.
   perception::LineEstimator::Options options = pipeline::perception_options(scenario);
   options.tracking = true;
+  pipeline::ImagePerceiver loop_perception(camera, options, scenario.perception_path_memory);
   perception::TrackingLineEstimator tracking(camera, options);
   const perception::LineEstimator full_search(camera, options);
   const perception::HoughBaseline baseline(camera, options.tape.width_m);
   control::LineTracker tracker = pipeline::make_tracker(scenario, scenario.controller.ts_s);
-  StageRecord tracked, searched, hough;
+  StageRecord perceived, tracked, searched, hough;
   std::vector<double> render_us, control_us, step_us;
   cv::Mat frame;
   ProgressBar bar("timing " + std::to_string(poses.size()) + " frames", !args.quiet && !args.json);
@@ -127,26 +134,36 @@ int run_bench(const BenchArgs& args) {
     const Clock::time_point t0 = Clock::now();
     renderer->render_into(poses[i], twists[i], static_cast<std::uint64_t>(i), &frame);
     const Clock::time_point t1 = Clock::now();
-    const LineMeasurement m = tracking.measure(frame, t);
+    pipeline::SourceFrame source_frame;
+    source_frame.index = i;
+    source_frame.t_s = t;
+    source_frame.image = frame;
+    source_frame.pose = poses[i];
+    source_frame.twist = twists[i];
+    source_frame.odometry = odometry[i];
+    const LineMeasurement m = loop_perception.measure(source_frame, nullptr);
     const Clock::time_point t2 = Clock::now();
-    const LineMeasurement m_full = full_search.estimate(frame, t);
+    const LineMeasurement m_tracked = tracking.measure(frame, t);
     const Clock::time_point t3 = Clock::now();
-    const LineMeasurement m_hough = baseline.estimate(frame, t);
+    const LineMeasurement m_full = full_search.estimate(frame, t);
     const Clock::time_point t4 = Clock::now();
-    tracker.step(m, t);
+    const LineMeasurement m_hough = baseline.estimate(frame, t);
     const Clock::time_point t5 = Clock::now();
+    tracker.step(m, t);
+    const Clock::time_point t6 = Clock::now();
     render_us.push_back(microseconds(t0, t1));
-    tracked.add(microseconds(t1, t2), m, truths[i]);
-    searched.add(microseconds(t2, t3), m_full, truths[i]);
-    hough.add(microseconds(t3, t4), m_hough, truths[i]);
-    control_us.push_back(microseconds(t4, t5));
+    perceived.add(microseconds(t1, t2), m, truths[i]);
+    tracked.add(microseconds(t2, t3), m_tracked, truths[i]);
+    searched.add(microseconds(t3, t4), m_full, truths[i]);
+    hough.add(microseconds(t4, t5), m_hough, truths[i]);
+    control_us.push_back(microseconds(t5, t6));
     // One closed-loop step as lockstep runs it: render, perceive as the loop does, control.
-    step_us.push_back(microseconds(t0, t2) + microseconds(t4, t5));
+    step_us.push_back(microseconds(t0, t2) + microseconds(t5, t6));
   }
   bar.finish();
   const int frames = static_cast<int>(poses.size());
   const double baseline_median_us = percentile(hough.us, 0.5);
-  const double speedup = baseline_median_us / std::max(1e-9, percentile(tracked.us, 0.5));
+  const double speedup = baseline_median_us / std::max(1e-9, percentile(perceived.us, 0.5));
 
   nlohmann::json j;
   j["scenario"] = scenario.source_name;
@@ -157,11 +174,16 @@ int run_bench(const BenchArgs& args) {
   j["render_us_median"] = percentile(render_us, 0.5);
   j["render_us_p99"] = percentile(render_us, 0.99);
   // The keys of DESIGN.md ("Speed figures"), then the detail.
-  j["perceive_us_median"] = percentile(tracked.us, 0.5);
-  j["perceive_us_p99"] = percentile(tracked.us, 0.99);
+  j["perceive_us_median"] = percentile(perceived.us, 0.5);
+  j["perceive_us_p99"] = percentile(perceived.us, 0.99);
   j["baseline_canny_hough_us_median"] = baseline_median_us;
-  j["perceive"] = tracked.json();
-  j["perceive"]["frames_tracked"] = tracking.counts().tracked;
+  j["perceive"] = perceived.json();
+  j["perceive"]["frames_tracked"] = loop_perception.counts().tracked;
+  j["perceive"]["path_memory"] = scenario.perception_path_memory;
+  j["perceive_line_estimator"] = tracked.json();
+  j["perceive_line_estimator"]["frames_tracked"] = tracking.counts().tracked;
+  j["baseline_over_line_estimator_median"] =
+      baseline_median_us / std::max(1e-9, percentile(tracked.us, 0.5));
   j["perceive_full_search"] = searched.json();
   j["baseline_canny_hough"] = hough.json();
   j["baseline_over_perceive_median"] = speedup;
@@ -170,7 +192,7 @@ int run_bench(const BenchArgs& args) {
   j["full_search_over_baseline_p99"] =
       percentile(searched.us, 0.99) / std::max(1e-9, percentile(hough.us, 0.99));
   j["perceive_p99_over_baseline_median"] =
-      percentile(tracked.us, 0.99) / std::max(1e-9, baseline_median_us);
+      percentile(perceived.us, 0.99) / std::max(1e-9, baseline_median_us);
   j["control_us_median"] = percentile(control_us, 0.5);
   j["control_us_p99"] = percentile(control_us, 0.99);
   j["closed_loop_step_us_median"] = percentile(step_us, 0.5);
@@ -195,19 +217,24 @@ int run_bench(const BenchArgs& args) {
   };
   line(cv::format("%-44s %10.1f %10.1f", "render", percentile(render_us, 0.5),
                   percentile(render_us, 0.99)));
-  row("perceive (tracking + search every 10th)", tracked);
-  row("perceive, full search only", searched);
+  row(scenario.perception_path_memory ? "perceive as the loop runs it (+ path memory)"
+                                      : "perceive as the loop runs it",
+      perceived);
+  row("  line estimator alone (tracking)", tracked);
+  row("  full search only", searched);
   row("baseline blur+Canny+HoughLinesP", hough);
   line(cv::format("%-44s %10.2f %10.2f", "control", percentile(control_us, 0.5),
                   percentile(control_us, 0.99)));
   line(cv::format("%-44s %10.1f %10.1f", "closed-loop step (render + perceive + control)",
                   percentile(step_us, 0.5), percentile(step_us, 0.99)));
   line(cv::format(
-      "baseline / perceive (median): %.1fx; perceive p99 / baseline median: %.2f; "
-      "full search / baseline: %.2f (median), %.2f (p99); tracked %d of %d frames",
-      speedup, j["perceive_p99_over_baseline_median"].get<double>(),
+      "baseline / perceive (median): %.1fx (line estimator alone %.1fx); perceive p99 / "
+      "baseline median: %.2f; full search / baseline: %.2f (median), %.2f (p99); tracked %d of "
+      "%d frames",
+      speedup, j["baseline_over_line_estimator_median"].get<double>(),
+      j["perceive_p99_over_baseline_median"].get<double>(),
       j["full_search_over_baseline_median"].get<double>(),
-      j["full_search_over_baseline_p99"].get<double>(), tracking.counts().tracked, frames));
+      j["full_search_over_baseline_p99"].get<double>(), loop_perception.counts().tracked, frames));
   line(
       cv::format("closed-loop step / baseline (median): %.2f; closed loop (lockstep): %.0f "
                  "frames/s (after %.0f ms of set-up); peak RSS %.0f MB",

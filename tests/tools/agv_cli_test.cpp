@@ -278,9 +278,12 @@ TEST_F(AgvCli, BenchPrintsTheDesignKeys) {
     EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_GT(j[key].get<double>(), 0.0) << key;
   }
-  for (const char* stage : {"perceive", "perceive_full_search", "baseline_canny_hough"})
+  for (const char* stage :
+       {"perceive", "perceive_line_estimator", "perceive_full_search", "baseline_canny_hough"})
     for (const char* key : {"us_median", "us_p99", "found", "rms_e_d_m", "rms_e_theta_rad"})
       EXPECT_TRUE(j[stage].contains(key)) << stage << "." << key;
+  // Perception as the loop runs it: the built-in scenario remembers the tape (path memory).
+  EXPECT_EQ(j["perceive"]["path_memory"], true);
   EXPECT_EQ(j["output"], path("bench"));
   std::ifstream table(dir_ / "bench" / "bench.txt");
   std::string first_line;
