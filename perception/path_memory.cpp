@@ -14,23 +14,57 @@ namespace agv::perception {
 namespace {
 
 // Points by square cells of a given size: the points within that distance of any place lie in
-// the 3 x 3 cells around that place's cell.
+// the 3 x 3 cells around that place's cell. The points of a cell are listed in index order.
 class PointGrid {
  public:
   PointGrid(const std::vector<Eigen::Vector2d>& points, double cell_m) : cell_m_(cell_m) {
-    for (size_t j = 0; j < points.size(); ++j) cells_.emplace_back(key(points[j]), j);
-    std::sort(cells_.begin(), cells_.end());
+    if (points.empty()) return;
+    // A counting sort into the cells of the points' bounding box (a few hundred cells for the
+    // tape in and near the view).
+    long long x0 = std::numeric_limits<long long>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+    std::vector<std::pair<long long, long long>> cells(points.size());
+    for (size_t j = 0; j < points.size(); ++j) {
+      cells[j] = cell(points[j]);
+      x0 = std::min(x0, cells[j].first);
+      x1 = std::max(x1, cells[j].first);
+      y0 = std::min(y0, cells[j].second);
+      y1 = std::max(y1, cells[j].second);
+    }
+    x0_ = x0;
+    y0_ = y0;
+    columns_ = x1 - x0 + 1;
+    rows_ = y1 - y0 + 1;
+    if (columns_ > 4096 || rows_ > 4096 ||
+        columns_ * rows_ > static_cast<long long>(4 * points.size() + 1024)) {
+      columns_ = rows_ = 0;  // too spread out for a dense grid: none (every lookup scans all)
+      all_.resize(points.size());
+      for (size_t j = 0; j < points.size(); ++j) all_[j] = j;
+      return;
+    }
+    start_.assign(columns_ * rows_ + 1, 0);
+    for (const auto& [cx, cy] : cells) ++start_[slot(cx, cy) + 1];
+    for (size_t k = 1; k < start_.size(); ++k) start_[k] += start_[k - 1];
+    indices_.resize(points.size());
+    std::vector<size_t> next(start_.begin(), start_.end() - 1);
+    for (size_t j = 0; j < points.size(); ++j)
+      indices_[next[slot(cells[j].first, cells[j].second)]++] = j;
   }
 
-  // f(index) for every point within cell_m of p (and some a little farther), in no set order.
+  // f(index) for every point within cell_m of p (and some a little farther), cell by cell, in
+  // index order within a cell.
   template <typename F>
   void for_each_near(const Eigen::Vector2d& p, F f) const {
+    if (columns_ == 0) {
+      for (size_t j : all_) f(j);
+      return;
+    }
     const auto [cx, cy] = cell(p);
     for (long long dx = -1; dx <= 1; ++dx) {
       for (long long dy = -1; dy <= 1; ++dy) {
-        const long long k = key(cx + dx, cy + dy);
-        auto it = std::lower_bound(cells_.begin(), cells_.end(), std::make_pair(k, size_t{0}));
-        for (; it != cells_.end() && it->first == k; ++it) f(it->second);
+        const long long x = cx + dx - x0_, y = cy + dy - y0_;
+        if (x < 0 || y < 0 || x >= columns_ || y >= rows_) continue;
+        const size_t k = static_cast<size_t>(x * rows_ + y);
+        for (size_t i = start_[k]; i < start_[k + 1]; ++i) f(indices_[i]);
       }
     }
   }
@@ -40,14 +74,15 @@ class PointGrid {
     return {static_cast<long long>(std::floor(p.x() / cell_m_)),
             static_cast<long long>(std::floor(p.y() / cell_m_))};
   }
-  static long long key(long long cx, long long cy) { return cx * 2000003LL + cy; }
-  long long key(const Eigen::Vector2d& p) const {
-    const auto [cx, cy] = cell(p);
-    return key(cx, cy);
+  size_t slot(long long cx, long long cy) const {
+    return static_cast<size_t>((cx - x0_) * rows_ + (cy - y0_));
   }
 
   double cell_m_;
-  std::vector<std::pair<long long, size_t>> cells_;  // (cell key, point index), sorted
+  long long x0_ = 0, y0_ = 0, columns_ = 0, rows_ = 0;
+  std::vector<size_t> start_;    // the points of cell k: indices_[start_[k] .. start_[k + 1])
+  std::vector<size_t> indices_;  // point indices, cell by cell
+  std::vector<size_t> all_;      // without a dense grid: every point
 };
 
 // The evidence for the registration: each remembered point's nearest evidence point, and the
