@@ -467,10 +467,9 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
                                                     : options_.preview_step_m;
     at += chord * Eigen::Vector2d(std::cos(heading + 0.5 * turn), std::sin(heading + 0.5 * turn));
     heading += turn;
-    // The points within the window (in the order they are remembered).
+    // The points within the window (in the grid's order: the fit orders them along x).
     near.clear();
     grid.for_each_near(at, [&](size_t j) { near.push_back(j); });
-    std::sort(near.begin(), near.end());
     std::vector<Eigen::Vector2d> local;
     double hi = -1.0;
     for (size_t j : near) {
