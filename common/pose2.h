@@ -22,6 +22,16 @@ struct Pose2 {
     return {c * p.x() - s * p.y() + x_m, s * p.x() + c * p.y() + y_m};
   }
 
+  // transform() with the rotation's cosine and sine worked out once, for loops over many points
+  // (the same values).
+  struct Map {
+    double c, s, x_m, y_m;
+    Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+      return {c * p.x() - s * p.y() + x_m, s * p.x() + c * p.y() + y_m};
+    }
+  };
+  Map map() const { return {std::cos(yaw_rad), std::sin(yaw_rad), x_m, y_m}; }
+
   // Maps a direction (no translation) from this pose's frame into the parent frame.
   Eigen::Vector2d rotate(const Eigen::Vector2d& v) const {
     const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);

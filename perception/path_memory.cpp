@@ -216,7 +216,8 @@ void PathMemory::reset() {
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
   const Pose2 to_vehicle = vehicle_.inverse();
   std::vector<Eigen::Vector2d> out;
-  for (const Point& point : points_) out.push_back(to_vehicle.transform(point.p));
+  const Pose2::Map to_vehicle_map = to_vehicle.map();
+  for (const Point& point : points_) out.push_back(to_vehicle_map(point.p));
   return out;
 }
 
@@ -293,7 +294,8 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
     return;
   }
   const Pose2 move{delta[1], delta[2], delta[0]};
-  for (Eigen::Vector2d& p : *in_vehicle) p = move.transform(p);
+  const Pose2::Map moved = move.map();
+  for (Eigen::Vector2d& p : *in_vehicle) p = moved(p);
   vehicle_ = vehicle_.compose(move.inverse());
 }
 
@@ -616,9 +618,11 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   }
   points_ = std::move(kept);
   in_vehicle.clear();
-  for (const Point& point : points_) in_vehicle.push_back(vehicle_.inverse().transform(point.p));
+  const Pose2::Map to_vehicle = vehicle_.inverse().map();
+  for (const Point& point : points_) in_vehicle.push_back(to_vehicle(point.p));
+  const Pose2::Map to_memory = vehicle_.map();
   for (const Eigen::Vector2d& centre : evidence) {
-    points_.push_back({vehicle_.transform(centre), frame_, odometer_m_});
+    points_.push_back({to_memory(centre), frame_, odometer_m_});
     in_vehicle.push_back(centre);
   }
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
