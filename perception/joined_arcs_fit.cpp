@@ -43,11 +43,11 @@ Eigen::Vector4d solve_normal(const Eigen::Matrix4d& ata, const Eigen::Vector4d& 
 // x^0..x^2 y), so each breakpoint costs a 4 x 4 solve, not a pass over the points.
 class PointMoments {
  public:
-  PointMoments(const std::vector<Eigen::Vector2d>& p, const std::vector<bool>& use) {
-    for (size_t i = 0; i < p.size(); ++i)
-      if (use[i]) sorted_.push_back(&p[i]);
-    std::sort(sorted_.begin(), sorted_.end(),
-              [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
+  // `by_x`: all the points, in order along x; those marked in `use` (by index into p) count.
+  PointMoments(const std::vector<Eigen::Vector2d>& p,
+               const std::vector<const Eigen::Vector2d*>& by_x, const std::vector<bool>& use) {
+    for (const Eigen::Vector2d* q : by_x)
+      if (use[q - p.data()]) sorted_.push_back(q);
     suffix_.assign(sorted_.size() + 1, std::array<double, 8>{});
     for (size_t j = sorted_.size(); j-- > 0;) {
       const double x = sorted_[j]->x(), y = sorted_[j]->y();
@@ -137,9 +137,10 @@ std::optional<double> best_breakpoint(const PointMoments& m, const JoinedArcsOpt
 // the breakpoint and the second curvature). The residuals of the two models compared are summed
 // over the points (exact).
 std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vector2d>& p,
+                                                    const std::vector<const Eigen::Vector2d*>& by_x,
                                                     const std::vector<bool>& use,
                                                     const JoinedArcsOptions& options) {
-  const PointMoments m(p, use);
+  const PointMoments m(p, by_x, use);
   const int n = static_cast<int>(m.size());
   if (n < 5) return {Solved{}, std::nullopt};  // three unknowns and two more points
   Eigen::Matrix4d ata;
@@ -182,7 +183,12 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   }
   if (options.both_sides && (!before || !after)) return std::nullopt;
   std::vector<bool> use(points.size(), true);
-  auto [model, xb] = best_model(points, use, options);
+  // The points in order along x, once for both fits.
+  std::vector<const Eigen::Vector2d*> by_x;
+  for (const Eigen::Vector2d& p : points) by_x.push_back(&p);
+  std::sort(by_x.begin(), by_x.end(),
+            [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
+  auto [model, xb] = best_model(points, by_x, use, options);
   // Once: drop the points far off (a stray chord, a seam), then fit again.
   std::vector<double> residuals;
   for (const Eigen::Vector2d& p : points)
@@ -196,7 +202,7 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
     kept += use[i] ? 1 : 0;
   }
   if (kept < static_cast<int>(points.size()))
-    std::tie(model, xb) = best_model(points, use, options);
+    std::tie(model, xb) = best_model(points, by_x, use, options);
   if (!std::isfinite(model.rss)) return std::nullopt;
 
   JoinedArcs out;
