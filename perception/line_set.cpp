@@ -373,6 +373,13 @@ std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
           lines.push_back(std::move(*line));
       }
     }
+    // No line yet, and the best-supported curve left was a chance alignment of floor texture,
+    // its evidence under half as dense along it as a tape's may be: what is left has less support
+    // still (tape-free frames tried up to 2 max_lines such curves, 1-2 ms each).
+    const double span_m = candidate->fit.s_max_m - candidate->fit.s_min_m;
+    if (lines.empty() && span_m > 0.0 &&
+        candidate->fit.inlier_count * options.scan_spacing_m < 0.5 * options.min_coverage * span_m)
+      break;
   }
   // A line that no chord crosses cleanly (each has one edge on another tape) is a reading of
   // tapes that overlap; where another line shows clean tape, it is that overlap read once more
