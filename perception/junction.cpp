@@ -186,10 +186,10 @@ void FollowHistory::update(const std::optional<double>& branch_heading,
                            const std::optional<CurveModel>& line, std::optional<double> width_m,
                            const std::optional<ContrastAxis>& line_axis) {
   width.update(line ? width_m : std::nullopt);
-  if (line && line_axis) {
-    axis = line_axis;
+  if (line) {
     frames_without_line = 0;
-  } else if (!line && ++frames_without_line > kForgetAxisAfterFrames) {
+    if (line_axis) axis = line_axis;
+  } else if (++frames_without_line > kForgetAxisAfterFrames) {
     axis.reset();
   }
   if (branch_heading) {

@@ -40,7 +40,8 @@ struct LineDetection {
 // Finds the guide line(s) in a frame and reports the one to follow as (e_theta, e_d, curvature)
 // of the vehicle reference point (shared/DESIGN.md), through the camera's floor mapping:
 //  1. a linear colour axis (tape colour hint or automatic) turns the frame into contrast; with a
-//     history, the axis the tape followed was last found on is tried first;
+//     history whose tape was found on an axis of the opposite polarity to this frame's, that
+//     axis is tried first;
 //  2. on a 1/4-size copy, a bar detector tuned to the tape width, a threshold and connected
 //     regions say where tape may be;
 //  3. along full-resolution rows and columns across each region, the tape's two edges are found

@@ -214,10 +214,9 @@ void PathMemory::reset() {
 }
 
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
-  const Pose2 to_vehicle = vehicle_.inverse();
+  const Pose2::Map to_vehicle = vehicle_.inverse().map();
   std::vector<Eigen::Vector2d> out;
-  const Pose2::Map to_vehicle_map = to_vehicle.map();
-  for (const Point& point : points_) out.push_back(to_vehicle_map(point.p));
+  for (const Point& point : points_) out.push_back(to_vehicle(point.p));
   return out;
 }
 
@@ -617,9 +616,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
     kept.push_back(points_[i]);
   }
   points_ = std::move(kept);
-  in_vehicle.clear();
-  const Pose2::Map to_vehicle = vehicle_.inverse().map();
-  for (const Point& point : points_) in_vehicle.push_back(to_vehicle(point.p));
+  in_vehicle = points_in_vehicle_frame();
   const Pose2::Map to_memory = vehicle_.map();
   for (const Eigen::Vector2d& centre : evidence) {
     points_.push_back({to_memory(centre), frame_, odometer_m_});
