@@ -16,14 +16,8 @@ struct Pose2 {
 
   Eigen::Vector2d translation() const { return {x_m, y_m}; }
 
-  // Maps a point given in this pose's frame into the parent frame.
-  Eigen::Vector2d transform(const Eigen::Vector2d& p) const {
-    const double c = std::cos(yaw_rad), s = std::sin(yaw_rad);
-    return {c * p.x() - s * p.y() + x_m, s * p.x() + c * p.y() + y_m};
-  }
-
-  // transform() with the rotation's cosine and sine worked out once, for loops over many points
-  // (the same values).
+  // The map of points given in this pose's frame into the parent frame, its rotation's cosine
+  // and sine worked out once (for loops over many points).
   struct Map {
     double c, s, x_m, y_m;
     Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
@@ -31,6 +25,9 @@ struct Pose2 {
     }
   };
   Map map() const { return {std::cos(yaw_rad), std::sin(yaw_rad), x_m, y_m}; }
+
+  // Maps a point given in this pose's frame into the parent frame.
+  Eigen::Vector2d transform(const Eigen::Vector2d& p) const { return map()(p); }
 
   // Maps a direction (no translation) from this pose's frame into the parent frame.
   Eigen::Vector2d rotate(const Eigen::Vector2d& v) const {
