@@ -110,6 +110,24 @@ class PointMoments {
   double yty_ = 0.0;
 };
 
+// 1 + 2 x the autocorrelation of a sequence of residuals summed over lags until it falls below
+// 0.05 (the integrated autocorrelation time: how many neighbours share one residual's error).
+double autocorrelation_time(const std::vector<double>& residuals) {
+  const int n = static_cast<int>(residuals.size());
+  double variance = 0.0;
+  for (double r : residuals) variance += r * r;
+  double tau = 1.0;
+  if (variance <= 0.0) return tau;
+  for (int lag = 1; lag < n / 4; ++lag) {
+    double sum = 0.0;
+    for (int i = 0; i + lag < n; ++i) sum += residuals[i] * residuals[i + lag];
+    const double rho = sum / variance;
+    if (rho < 0.05) break;
+    tau += 2.0 * rho;
+  }
+  return tau;
+}
+
 // The breakpoints lo + min_piece, then every breakpoint_step, up to hi - min_piece, ranked by
 // their residual from the normal equations, y'y - c'a'y. Nullopt when there is none.
 std::optional<double> best_breakpoint(const PointMoments& m, const JoinedArcsOptions& options) {
@@ -171,6 +189,30 @@ std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vec
   return {one, std::nullopt};
 }
 
+// Standard deviation of the model's coefficient `index` over the points marked (in order along
+// x): (a'a)^-1 times the residual variance, inflated by the residuals' autocorrelation time.
+double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
+                         const std::vector<const Eigen::Vector2d*>& by_x,
+                         const std::vector<bool>& use, const Solved& model,
+                         std::optional<double> xb, int index) {
+  Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
+  std::vector<double> residuals;
+  for (const Eigen::Vector2d* q : by_x) {
+    if (!use[q - p.data()]) continue;
+    const Eigen::Vector4d row = basis(q->x(), xb);
+    ata += row * row.transpose();
+    residuals.push_back(row.dot(model.c) - q->y());
+  }
+  const int n_params = xb ? 4 : 3, n = static_cast<int>(residuals.size());
+  if (n <= n_params) return std::numeric_limits<double>::infinity();
+  double rss = 0.0;
+  for (double r : residuals) rss += r * r;
+  if (!xb) ata(3, 3) = 1.0;  // the one-piece model has no fourth unknown
+  const double inverse = ata.inverse()(index, index);
+  return std::sqrt(
+      std::max(0.0, inverse * autocorrelation_time(residuals) * rss / (n - n_params)));
+}
+
 }  // namespace
 
 std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
@@ -220,6 +262,9 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   out.break_x_m = xb;
   out.points = kept;
   out.rms_m = std::sqrt(model.rss / std::max(1, kept));
+  if (options.curvature_sigma)
+    out.curvature_sigma_1_m =
+        coefficient_sigma(points, by_x, use, model, xb, second_holds ? 3 : 2);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -21,6 +22,10 @@ struct JoinedArcs {
   std::optional<double> break_x_m;  // where the curvature changes, if it does in the window
   double rms_m = 0.0;               // residual of the points kept
   int points = 0;
+  // Standard deviation of curvature_1_m (options.curvature_sigma; else NaN): the residual
+  // variance inflated by the residuals' correlation along x (points seen in overlapping frames
+  // share the tape's wear and the floor's texture, which more points do not average out).
+  double curvature_sigma_1_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct JoinedArcsOptions {
@@ -28,6 +33,7 @@ struct JoinedArcsOptions {
   double min_piece_m = 0.01;         // each piece must hold at least this much of the points
   double outlier_sigmas = 4.0;       // points this many robust sigmas off are dropped, once
   bool both_sides = true;  // the points must lie on both sides of x = 0 (false: extrapolate)
+  bool curvature_sigma = false;  // also work out curvature_sigma_1_m
 };
 
 // Nullopt when fewer than 6 points, or (options.both_sides) they do not span both sides of

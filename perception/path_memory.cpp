@@ -485,7 +485,17 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
     at += rotated({0.0, fit->offset_m}, heading);
     heading += std::atan(fit->slope);
     curvature = fit->curvature_1_m;
-    const bool changed = std::abs(curvature - origin.curvature_1_m) > options_.preview_change_1_m;
+    // A change is larger than preview_change_1_m and than the window's own uncertainty (worn
+    // tape's wear shifts the centre line over millimetres: one window's curvature is uncertain
+    // by 0.3-1 1/m there, and the controllers would turn for each such reading).
+    bool changed = std::abs(curvature - origin.curvature_1_m) > options_.preview_change_1_m;
+    if (changed) {
+      JoinedArcsOptions with_sigma;
+      with_sigma.curvature_sigma = true;
+      const std::optional<JoinedArcs> again = fit_joined_arcs(local, with_sigma);
+      changed = again && std::abs(curvature - origin.curvature_1_m) >
+                             options_.preview_change_sigmas * again->curvature_sigma_1_m;
+    }
     if (!changed) {
       first_change_s = first_break_s = std::numeric_limits<double>::quiet_NaN();
       ahead.clear();

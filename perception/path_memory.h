@@ -81,6 +81,7 @@ struct PathMemoryOptions {
   double preview_half_window_m = 0.03;
   double preview_step_m = 0.02;
   double preview_change_1_m = 0.15;
+  double preview_change_sigmas = 3.0;  // ... and this many of the window's standard deviations
 };
 
 // The tape the camera has seen, remembered in the frame of the vehicle's odometry, so that e_d
