@@ -21,7 +21,12 @@ double LineTracker::change_ahead_m(const LineMeasurement& m, double now_s) const
 }
 
 double LineTracker::coming_curvature_1_m(const LineMeasurement& m, double now_s) const {
-  const double ahead_m = change_ahead_m(m, now_s);
+  // The drive takes time to make a new turn rate (wheels steering at their rate): the change is
+  // fed forward that much earlier, so that the vehicle turns half way at the joint.
+  const BodyTwist here{speed_m_s_, 0.0, speed_m_s_ * m.curvature_1_m};
+  const BodyTwist there{speed_m_s_, 0.0, speed_m_s_ * m.curvature_ahead_1_m};
+  const double ahead_m =
+      change_ahead_m(m, now_s) - speed_m_s_ * drive_.half_response_s(here, there);
   if (!std::isfinite(ahead_m)) return m.curvature_1_m;
   // How much of the coming period's travel lies beyond the change.
   const double period_m = std::max(1e-9, speed_m_s_ * options_.ts_s);
@@ -55,6 +60,7 @@ LineTracker::LineTracker(std::unique_ptr<PathController> controller, const Vehic
       limits_(limits),
       options_(options),
       previous_command_(initial_command),
+      drive_(initial_command, options.drive),
       speed_m_s_(options.path_speed_m_s) {}
 
 TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, double now_s) {
@@ -120,7 +126,7 @@ TrackerOutput LineTracker::step(const std::optional<LineMeasurement>& newest, do
 
   out.command = limit_command(desired, previous_command_, limits_, options_.ts_s);
   if (differs(out.command, desired)) out.flags |= kSaturated;
-  history_.record(now_s, out.command);
+  record(now_s, out.command);
   previous_command_ = out.command;
   return out;
 }
@@ -130,9 +136,21 @@ TrackerOutput LineTracker::brake(double now_s) {
   out.flags = kStopping;
   out.command = limit_command(BodyTwist{}, previous_command_, limits_, options_.ts_s);
   if (differs(out.command, BodyTwist{})) out.flags |= kSaturated;
-  history_.record(now_s, out.command);
+  record(now_s, out.command);
   previous_command_ = out.command;
   return out;
+}
+
+void LineTracker::record(double now_s, const BodyTwist& command) {
+  if (drive_.immediate()) {
+    history_.record(now_s, command);
+    return;
+  }
+  double t_s = now_s;
+  drive_.step(command, options_.ts_s, [&](double h_s, const BodyTwist& twist) {
+    history_.record(t_s, twist);
+    t_s += h_s;
+  });
 }
 
 }  // namespace agv::control

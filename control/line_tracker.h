@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "common/line_measurement.h"
+#include "control/drive_response.h"
 #include "control/error_prediction.h"
 #include "control/path_controller.h"
 
@@ -36,7 +37,8 @@ struct TrackerOutput {
 // same holds when measurements stop arriving at all (a stalled camera or perception): after
 // `line_lost_hold_s` without any measurement the vehicle stops. With
 // latency compensation on, the error is predicted from the frame's time to now with the
-// commands already sent (as Nav2 MPPI's model delay and Autoware MPC's input delay do). Where
+// commands already sent, as the drive responds to them (as Nav2 MPPI's model delay and Autoware
+// MPC's input delay with its steering model do). Where
 // the measurement previews a change of the path's curvature ahead, the curvature fed forward
 // changes in the period the vehicle reaches it. On a curve the vehicle must turn at
 // v * |curvature|: where that would exceed `curve_turn_fraction` of the yaw-rate limit (the rest
@@ -52,6 +54,9 @@ class LineTracker {
     bool latency_compensation = true;
     double curve_turn_fraction = 0.8;  // 0: the path speed is never lowered for a curve
     double curve_decel_fraction = 0.5;
+    // How the vehicle's twist follows the commands (its wheels' steer rate, an actuator lag):
+    // the latency prediction moves the vehicle as the drive does, not as it is told.
+    DriveResponse::Options drive;
   };
 
   LineTracker(std::unique_ptr<PathController> controller, const VehicleLimits& limits,
@@ -78,12 +83,16 @@ class LineTracker {
   // Where the previewed curvature change lies now (m ahead of the origin), the vehicle having
   // driven on since the frame; infinite when none is previewed.
   double change_ahead_m(const LineMeasurement& m, double now_s) const;
+  // Keeps the command sent at now_s for the latency prediction: the twist the drive makes of it
+  // over the coming period.
+  void record(double now_s, const BodyTwist& command);
 
   std::unique_ptr<PathController> controller_;
   VehicleLimits limits_;
   Options options_;
   BodyTwist previous_command_;
-  CommandHistory history_;
+  DriveResponse drive_;     // the drive's expected response to the commands sent
+  CommandHistory history_;  // ... the twists it makes of them
   std::optional<LineMeasurement> last_good_;
   bool line_lost_ = false;
   bool stopped_tracking_ = false;

@@ -74,6 +74,14 @@ std::unique_ptr<control::PathController> make_dwa(const Scenario& s) {
   return std::make_unique<control::DwaController>(options);
 }
 
+// How the scenario's vehicle responds to its commands.
+control::DriveResponse::Options plant_options(const Scenario& s) {
+  control::DriveResponse::Options options{s.vehicle.actuator_lag_s, std::nullopt};
+  if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive))
+    options.dual_steer = *dual;
+  return options;
+}
+
 }  // namespace
 
 Pose2 start_pose(const Scenario& s) {
@@ -90,8 +98,19 @@ BodyTwist start_twist(const Scenario& s) {
 
 std::unique_ptr<control::PathController> make_controller(const Scenario& s) {
   switch (s.controller.kind) {
-    case ControllerKind::kFiniteStep:
-      return std::make_unique<control::FiniteStepController>(s.controller.finite_step);
+    case ControllerKind::kFiniteStep: {
+      control::FiniteStepController::Options options = s.controller.finite_step;
+      if (s.controller.finite_step_n_min_auto) {
+        options.n_min = 1;
+        if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive)) {
+          constexpr double kSteer_rad = 0.25;
+          const double per_period_rad = dual->max_steer_rate_rad_s * s.controller.ts_s;
+          options.n_min = std::max(1, static_cast<int>(std::ceil(kSteer_rad / per_period_rad - 1e-9)));
+        }
+        options.n_min = std::min(options.n_min, options.n_max);
+      }
+      return std::make_unique<control::FiniteStepController>(options);
+    }
     case ControllerKind::kPid:
       return std::make_unique<control::PidController>(s.controller.pid);
     case ControllerKind::kSeed004FfP: {
@@ -116,6 +135,7 @@ control::LineTracker make_tracker(const Scenario& s, double ts_s) {
   options.line_lost_hold_s = s.controller.line_lost_hold_s;
   options.latency_compensation = s.controller.latency_compensation;
   options.curve_turn_fraction = s.controller.curve_turn_fraction;
+  options.drive = plant_options(s);
   return control::LineTracker(make_controller(s), s.vehicle.limits, options, start_twist(s));
 }
 
@@ -123,12 +143,7 @@ ControlStage::Options control_stage_options(const Scenario& s, double ts_s) {
   return {s.vehicle.drive, s.vehicle.limits, ts_s, start_twist(s)};
 }
 
-Plant make_plant(const Scenario& s) {
-  Plant::Options options{s.vehicle.actuator_lag_s, std::nullopt};
-  if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive))
-    options.dual_steer = *dual;
-  return Plant(start_pose(s), start_twist(s), options);
-}
+Plant make_plant(const Scenario& s) { return Plant(start_pose(s), start_twist(s), plant_options(s)); }
 
 perception::CameraModel render_camera(const Scenario& s) {
   if (!s.true_mount) return perception::camera_model_of(s.camera, s.camera_name);

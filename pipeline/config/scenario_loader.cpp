@@ -361,7 +361,8 @@ void read_vehicle(YamlReader& in, Scenario* s) {
   check_wheels_carry_path_speed(in, *s);
 }
 
-void read_finite_step(YamlReader& in, control::FiniteStepController::Options* f) {
+void read_finite_step(YamlReader& in, control::FiniteStepController::Options* f,
+                      bool* n_min_auto) {
   const std::string k = "controller.finite_step.";
   f->a_max_m_s2 = in.positive(k + "a_max_m_s2", f->a_max_m_s2, 50.0);
   f->v_x_max_m_s = in.positive(k + "v_x_max_m_s", f->v_x_max_m_s, 10.0);
@@ -370,9 +371,14 @@ void read_finite_step(YamlReader& in, control::FiniteStepController::Options* f)
                           {"shrinking", control::HorizonMode::kShrinking},
                           {"fixed", control::HorizonMode::kFixed}});
   f->n_fixed = in.integer(k + "n_fixed", f->n_fixed, 1, 1000);
-  f->n_min = in.integer(k + "n_min", f->n_min, 1, 1000);
+  if (in.has(k + "n_min") && in.text(k + "n_min", "") == "auto") {
+    *n_min_auto = true;
+  } else if (in.has(k + "n_min")) {
+    f->n_min = in.integer(k + "n_min", f->n_min, 1, 1000);
+    *n_min_auto = false;
+  }
   f->n_max = in.integer(k + "n_max", f->n_max, 1, 1000);
-  if (f->n_min > f->n_max) {
+  if (!*n_min_auto && f->n_min > f->n_max) {
     throw InputError(in.origin(k + "n_min") + ": key '" + k +
                      "n_min': must not exceed controller.finite_step.n_max");
   }
@@ -417,7 +423,7 @@ void read_controller(YamlReader& in, ControllerConfig* c) {
   c->latency_compensation = in.boolean("controller.latency_compensation", c->latency_compensation);
   c->curve_turn_fraction =
       in.number("controller.curve_turn_fraction", c->curve_turn_fraction, 0.0, 1.0);
-  read_finite_step(in, &c->finite_step);
+  read_finite_step(in, &c->finite_step, &c->finite_step_n_min_auto);
   read_pid(in, &c->pid);
   read_seed004(in, &c->seed004);
   read_dwa(in, &c->dwa);

@@ -23,6 +23,17 @@ LineMeasurement PathTruth::localisation(const Pose2& pose, double t_s) {
   const Eigen::Vector2d tangent(std::cos(foot_.heading_rad), std::sin(foot_.heading_rad));
   const double past_end_m = foot_.after_end ? (pose.translation() - foot_.point).dot(tangent) : 0.0;
   m.path_remaining_m = path_.length_m() - foot_.s_m - past_end_m;
+  // The path ahead, as the camera's preview gives it: the next joint where the curvature changes.
+  double joint_s_m = 0.0;
+  for (const control::PathSegment& segment : path_.segments()) {
+    joint_s_m += segment.length_m;
+    if (joint_s_m <= foot_.s_m || joint_s_m >= path_.length_m()) continue;
+    const double ahead_1_m = path_.curvature_at(joint_s_m + 1e-6);
+    if (std::abs(ahead_1_m - path_.curvature_at(joint_s_m - 1e-6)) < 1e-9) continue;
+    m.curvature_change_m = joint_s_m - foot_.s_m;
+    m.curvature_ahead_1_m = ahead_1_m;
+    break;
+  }
   return m;
 }
 

@@ -1,41 +1,35 @@
 #pragma once
 
-#include <optional>
-
 #include "common/body_twist.h"
 #include "common/pose2.h"
 #include "common/twist_motion.h"  // integrate_twist
-#include "control/dual_steer_kinematics.h"
+#include "control/drive_response.h"
 
 namespace agv::pipeline {
 
-// Kinematic vehicle: integrates the twist it is commanded, optionally through a first-order
-// actuator lag (the real twist approaches the command with time constant lag_s). A dual
-// steering-wheel vehicle instead turns its wheels towards the command within their steer-rate,
-// steer-angle and speed limits, and moves with the twist its wheels make.
+// Kinematic vehicle: moves with the twist its drive makes of the commands (DriveResponse: at
+// once, through a first-order actuator lag, or through dual steering wheels turning within
+// their limits).
 class Plant {
  public:
-  struct Options {
-    double actuator_lag_s = 0.0;  // 0: the twist follows the command at once
-    std::optional<control::DualSteerGeometry> dual_steer;
-  };
+  using Options = control::DriveResponse::Options;
 
-  Plant(const Pose2& start, const BodyTwist& start_twist, const Options& options);
+  Plant(const Pose2& start, const BodyTwist& start_twist, const Options& options)
+      : pose_(start), drive_(start_twist, options) {}
 
   // Advances by dt_s under a command held constant over that time.
-  void step(const BodyTwist& command, double dt_s);
+  void step(const BodyTwist& command, double dt_s) {
+    drive_.step(command, dt_s,
+                [&](double h_s, const BodyTwist& twist) { pose_ = integrate_twist(pose_, twist, h_s); });
+  }
 
   const Pose2& pose() const { return pose_; }
-  const BodyTwist& twist() const { return twist_; }  // the twist the vehicle really has
-  const control::DualSteerWheels& steer_wheels() const { return wheels_; }  // dual steer only
+  const BodyTwist& twist() const { return drive_.twist(); }  // the twist the vehicle really has
+  const control::DualSteerWheels& steer_wheels() const { return drive_.steer_wheels(); }  // dual steer only
 
  private:
-  void step_dual_steer(const BodyTwist& command, double dt_s);
-
   Pose2 pose_;
-  BodyTwist twist_;
-  Options options_;
-  control::DualSteerWheels wheels_;
+  control::DriveResponse drive_;
 };
 
 }  // namespace agv::pipeline

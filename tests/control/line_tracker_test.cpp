@@ -38,6 +38,70 @@ LineMeasurement lost(double stamp_s) {
   return m;
 }
 
+// A law that always asks for the same twist, whatever the error.
+class FixedCommand : public PathController {
+ public:
+  explicit FixedCommand(const BodyTwist& command) : command_(command) {}
+  ControllerOutput update(const TrackingEstimate&, const ControlContext&) override {
+    return {command_, 1, false};
+  }
+  void reset() override {}
+  std::string name() const override { return "fixed"; }
+
+ private:
+  BodyTwist command_;
+};
+
+DriveResponse::Options dual_steer_drive() {
+  DriveResponse::Options drive;
+  drive.dual_steer = DualSteerGeometry{};  // both wheels steer, 1 m apart, 1 rad/s
+  return drive;
+}
+
+// Dual steering wheels told at t = 0 to move sideways at 0.05 m/s: by t = 0.1 s they have turned
+// only 0.1 of the 0.165 rad they need, and the vehicle has moved 1.6 mm sideways, not the 5 mm
+// the command alone would give. The error predicted from a frame taken at t = 0 (on the line)
+// says so: within 0.3 mm of the wheels' own integral (DriveResponseTest: 1.51 mm exactly), far
+// from 5 mm. A Mecanum vehicle (at once) is predicted at the command's 5 mm.
+TEST(LineTracker, PredictsTheLatencyWithHowTheDriveResponds) {
+  for (bool steered : {true, false}) {
+    LineTracker::Options options;
+    options.ts_s = kTs;
+    options.path_speed_m_s = 0.3;
+    if (steered) options.drive = dual_steer_drive();
+    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.05, 0.0}), kLimits,
+                        options, {0.3, 0.0, 0.0});
+    tracker.step(seen(0.0), 0.0);
+    const TrackerOutput out = tracker.step(std::nullopt, kTs);  // the same frame, 0.1 s on
+    ASSERT_TRUE(out.has_estimate);
+    EXPECT_NEAR(out.estimate.e_d_m, steered ? 0.00151 : 0.005, steered ? 3e-4 : 1e-9)
+        << (steered ? "dual steer" : "at once");
+  }
+}
+
+// A curvature change 50 mm ahead at 0.3 m/s: a drive that follows at once gets it fed forward in
+// the period it reaches it (not this one: 30 mm of travel); dual steering wheels, which take
+// atan(0.5 * 1 1/m) / 1 rad/s = 0.46 s to steer into the arc, get it half of that, 0.23 s or
+// 70 mm, early: in this period already.
+TEST(LineTracker, SteeredWheelsGetACurvatureAheadFedForwardEarly) {
+  for (bool steered : {true, false}) {
+    LineTracker::Options options;
+    options.ts_s = kTs;
+    options.path_speed_m_s = 0.3;
+    options.curve_turn_fraction = 0.0;
+    if (steered) options.drive = dual_steer_drive();
+    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.0, 0.0}), kLimits, options,
+                        {0.3, 0.0, 0.0});
+    LineMeasurement m = seen(0.0);
+    m.curvature_change_m = 0.05;
+    m.curvature_ahead_1_m = 1.0;
+    const TrackerOutput out = tracker.step(m, 0.0);
+    ASSERT_TRUE(out.has_estimate);
+    EXPECT_DOUBLE_EQ(out.estimate.curvature_1_m, steered ? 1.0 : 0.0)
+        << (steered ? "dual steer" : "at once");
+  }
+}
+
 // The line is lost at t = 0.5 s: the tracker holds the last good estimate for 0.3 s, then
 // brakes at no more than a_max to a stop, and resumes when the line is seen again.
 TEST(LineTracker, HoldsThenStopsWithinTheAccelerationLimitThenResumes) {

@@ -77,6 +77,30 @@ TEST(VehiclesAndControllers, DriveFormOneSweepsTheLeastCoverageArea) {
   EXPECT_GT(area_m2[2], 0.6);
 }
 
+// Line -> arc (R 1 m) -> line at 0.3 m/s from the pose (no frames), 10 mm and 5 deg off at the
+// start. A dual steering-wheel vehicle (wheels 1 m apart, steering at 1 rad/s) settles into the
+// 2 mm / 2 deg bands within 2 s and stays there through both joints, as a Mecanum vehicle does
+// within 1 s, with the finite-step, PID and seed 004 laws. Measured: Mecanum 0.45 s; dual steer
+// 0.91 / 1.79 / 1.26 s. It did not (never / 11.0 / 10.4 s, and 8.8 s for the Mecanum) while
+// the pose gave no preview of the joints, the latency was predicted with the commands rather than
+// with the wheels' turning, and the finite-step plan asked a steered vehicle for a new twist
+// in one period.
+TEST(VehiclesAndControllers, BothVehiclesSettleAndStayOnALineArcLineFromThePose) {
+  for (const char* vehicle : {"mecanum", "dual_steer"}) {
+    for (const char* controller : {"finite_step", "pid", "seed004_ff_p"}) {
+      const bool steered = std::string(vehicle) == "dual_steer";
+      if (!steered && std::string(controller) != "finite_step") continue;
+      const Scenario s = shipped("curve_line_arc_r1.yaml", {{"vehicle.kind", vehicle},
+                                                            {"controller.kind", controller},
+                                                            {"controller.input", "pose"}});
+      const RunMetrics m = compute_metrics(run_scenario(s), s);
+      ASSERT_TRUE(m.settle_time_s.has_value()) << vehicle << " " << controller;
+      EXPECT_LT(*m.settle_time_s, steered ? 2.0 : 1.0) << vehicle << " " << controller;
+      EXPECT_EQ(m.limit_violations, 0) << vehicle << " " << controller;
+    }
+  }
+}
+
 // Every shipped vehicle/controller example runs and keeps the vehicle near its path.
 TEST(VehiclesAndControllers, EveryExampleCombinationTracks) {
   for (const char* vehicle : {"mecanum", "dual_steer"}) {

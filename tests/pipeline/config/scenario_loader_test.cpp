@@ -89,6 +89,7 @@ TEST(ScenarioLoader, BadInputNamesTheFileAndTheKey) {
       {"controller:\n  finite_step: {n_min: 12, n_max: 10}\n",
        {},
        {"controller.finite_step.n_min"}},
+      {"controller:\n  finite_step: {n_min: soon}\n", {}, {"controller.finite_step.n_min"}},
       {"frame_faults:\n  - {kind: covered, from_s: 2.0, to_s: 1.0}\n", {}, {"frame_faults.0"}},
       {"frame_faults:\n  - {kind: smoke, from_s: 1.0, to_s: 2.0}\n", {}, {"frame_faults.0.kind"}},
       {"",
