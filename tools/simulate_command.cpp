@@ -10,6 +10,7 @@
 #include "common/input_error.h"
 #include "perception/camera_file.h"
 #include "pipeline/config/builtin_files.h"
+#include "pipeline/config/factory.h"
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/evaluation/metrics.h"
@@ -62,6 +63,8 @@ int run_simulate(const SimulateArgs& args) {
   const pipeline::Scenario scenario =
       pipeline::load_scenario_for_command(args.scenario_file, args.overrides);
 
+  for (const std::string& warning : pipeline::scenario_warnings(scenario))
+    std::cerr << "agv simulate: warning: " << warning << '\n';
   pipeline::OutputFolder folder(args.out_dir, "summary.json", args.force);
   pipeline::RunResult run;
   {

@@ -143,6 +143,26 @@ ControlStage::Options control_stage_options(const Scenario& s, double ts_s) {
   return {s.vehicle.drive, s.vehicle.limits, ts_s, start_twist(s)};
 }
 
+std::vector<std::string> scenario_warnings(const Scenario& s) {
+  std::vector<std::string> warnings;
+  const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive);
+  const bool sideways_law = s.controller.kind == ControllerKind::kFiniteStep ||
+                            s.controller.kind == ControllerKind::kPid ||
+                            s.controller.kind == ControllerKind::kSeed004FfP;
+  if (dual && dual->form != control::DriveForm::kBothSteer && sideways_law) {
+    warnings.push_back(
+        "vehicle.dual_steer.drive_form " +
+        std::string(dual->form == control::DriveForm::kRearDriveFront ? "rear_drive"
+                                                                        : "front_drive") +
+        " cannot move its reference point sideways, which controller.kind " +
+        (s.controller.kind == ControllerKind::kFiniteStep ? "finite_step"
+         : s.controller.kind == ControllerKind::kPid      ? "pid"
+                                                          : "seed004_ff_p") +
+        " commands: expect it to leave the line; dwa and improved_dwa steer such a vehicle");
+  }
+  return warnings;
+}
+
 Plant make_plant(const Scenario& s) { return Plant(start_pose(s), start_twist(s), plant_options(s)); }
 
 perception::CameraModel render_camera(const Scenario& s) {

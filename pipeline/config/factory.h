@@ -1,6 +1,8 @@
 #pragma once
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "common/body_twist.h"
 #include "common/pose2.h"
@@ -31,6 +33,11 @@ control::LineTracker make_tracker(const Scenario& scenario, double ts_s);
 ControlStage::Options control_stage_options(const Scenario& scenario, double ts_s);
 
 Plant make_plant(const Scenario& scenario);
+
+// What the user should know before trusting the run, one sentence each (empty: nothing): a law
+// that commands a sideways speed (finite_step, pid, seed004_ff_p) on a dual steer drive form
+// whose reference point cannot move sideways (rear_drive, front_drive).
+std::vector<std::string> scenario_warnings(const Scenario& scenario);
 // The camera that takes the frames: the camera file's, or its intrinsics with the true mount.
 perception::CameraModel render_camera(const Scenario& scenario);
 // The scene the renderer draws: the tape, extra tapes, floor marks and tags, floor, effects.

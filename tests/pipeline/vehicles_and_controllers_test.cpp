@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "pipeline/config/factory.h"
 #include "pipeline/config/scenario_loader.h"
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
@@ -99,6 +100,29 @@ TEST(VehiclesAndControllers, BothVehiclesSettleAndStayOnALineArcLineFromThePose)
       EXPECT_EQ(m.limit_violations, 0) << vehicle << " " << controller;
     }
   }
+}
+
+// A law that commands a sideways speed on a drive form that cannot make one is named before the
+// run (front_drive with finite_step ran 102 mm off the line in the default scenario), and only
+// then: both wheels steering, or DWA, is a working pair.
+TEST(VehiclesAndControllers, ADriveThatCannotMoveSidewaysWithASidewaysLawIsNamed) {
+  const auto warnings = [](const char* form, const char* controller) {
+    return scenario_warnings(shipped("dual_steer_finite_step_camera.yaml",
+                                     {{"vehicle.dual_steer.drive_form", form},
+                                      {"controller.kind", controller}}));
+  };
+  for (const char* form : {"rear_drive", "front_drive"}) {
+    for (const char* controller : {"finite_step", "pid", "seed004_ff_p"}) {
+      const std::vector<std::string> w = warnings(form, controller);
+      ASSERT_EQ(w.size(), 1u) << form << " " << controller;
+      EXPECT_NE(w[0].find(form), std::string::npos);
+      EXPECT_NE(w[0].find(controller), std::string::npos);
+    }
+    EXPECT_TRUE(warnings(form, "dwa").empty());
+    EXPECT_TRUE(warnings(form, "improved_dwa").empty());
+  }
+  EXPECT_TRUE(warnings("both_steer", "finite_step").empty());
+  EXPECT_TRUE(scenario_warnings(shipped("mecanum_pid_camera.yaml")).empty());
 }
 
 // Every shipped vehicle/controller example runs and keeps the vehicle near its path.
