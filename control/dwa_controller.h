@@ -76,6 +76,7 @@ class DwaController : public PathController {
   ControllerOutput update(const TrackingEstimate& estimate, const ControlContext& context) override;
   void reset() override {}
   std::string name() const override { return options_.improved ? "improved_dwa" : "dwa"; }
+  bool feeds_curvature_forward() const override { return false; }
 
   // Candidates scored in the last update (for the benchmark and tests).
   int last_candidates() const { return last_candidates_; }

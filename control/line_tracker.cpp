@@ -21,12 +21,14 @@ double LineTracker::change_ahead_m(const LineMeasurement& m, double now_s) const
 }
 
 double LineTracker::coming_curvature_1_m(const LineMeasurement& m, double now_s) const {
-  // The drive takes time to make a new turn rate (wheels steering at their rate): the change is
-  // fed forward that much earlier, so that the vehicle turns half way at the joint.
+  // The drive takes time to make a new turn rate (wheels steering at their rate): a law that
+  // feeds the curvature forward gets the change that much earlier, so that the vehicle turns
+  // half way at the joint.
   const BodyTwist here{speed_m_s_, 0.0, speed_m_s_ * m.curvature_1_m};
   const BodyTwist there{speed_m_s_, 0.0, speed_m_s_ * m.curvature_ahead_1_m};
-  const double ahead_m =
-      change_ahead_m(m, now_s) - speed_m_s_ * drive_.half_response_s(here, there);
+  const double lead_s =
+      controller_->feeds_curvature_forward() ? drive_.half_response_s(here, there) : 0.0;
+  const double ahead_m = change_ahead_m(m, now_s) - speed_m_s_ * lead_s;
   if (!std::isfinite(ahead_m)) return m.curvature_1_m;
   // How much of the coming period's travel lies beyond the change.
   const double period_m = std::max(1e-9, speed_m_s_ * options_.ts_s);

@@ -47,6 +47,10 @@ class PathController {
   // Forget internal state (a manoeuvre under way, integrators): called when tracking restarts.
   virtual void reset() = 0;
   virtual std::string name() const = 0;
+  // Whether the law feeds the curvature forward as a turn rate (true), so that a drive slow to
+  // make a new turn rate needs it early, or plans on the path's geometry itself (DWA's roll-outs
+  // against the curve ahead), which the curvature fed early would move.
+  virtual bool feeds_curvature_forward() const { return true; }
 };
 
 }  // namespace agv::control

@@ -41,15 +41,18 @@ LineMeasurement lost(double stamp_s) {
 // A law that always asks for the same twist, whatever the error.
 class FixedCommand : public PathController {
  public:
-  explicit FixedCommand(const BodyTwist& command) : command_(command) {}
+  explicit FixedCommand(const BodyTwist& command, bool feeds_forward = true)
+      : command_(command), feeds_forward_(feeds_forward) {}
   ControllerOutput update(const TrackingEstimate&, const ControlContext&) override {
     return {command_, 1, false};
   }
   void reset() override {}
   std::string name() const override { return "fixed"; }
+  bool feeds_curvature_forward() const override { return feeds_forward_; }
 
  private:
   BodyTwist command_;
+  bool feeds_forward_;
 };
 
 DriveResponse::Options dual_steer_drive() {
@@ -82,8 +85,24 @@ TEST(LineTracker, PredictsTheLatencyWithHowTheDriveResponds) {
 // A curvature change 50 mm ahead at 0.3 m/s: a drive that follows at once gets it fed forward in
 // the period it reaches it (not this one: 30 mm of travel); dual steering wheels, which take
 // atan(0.5 * 1 1/m) / 1 rad/s = 0.46 s to steer into the arc, get it half of that, 0.23 s or
-// 70 mm, early: in this period already.
+// 70 mm, early: in this period already. A law that plans on the path's geometry itself (DWA)
+// gets the curvature where the vehicle is.
 TEST(LineTracker, SteeredWheelsGetACurvatureAheadFedForwardEarly) {
+  for (bool planner : {false, true}) {
+    LineTracker::Options options;
+    options.ts_s = kTs;
+    options.path_speed_m_s = 0.3;
+    options.curve_turn_fraction = 0.0;
+    options.drive = dual_steer_drive();
+    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.0, 0.0}, !planner),
+                        kLimits, options, {0.3, 0.0, 0.0});
+    LineMeasurement m = seen(0.0);
+    m.curvature_change_m = 0.05;
+    m.curvature_ahead_1_m = 1.0;
+    const TrackerOutput out = tracker.step(m, 0.0);
+    ASSERT_TRUE(out.has_estimate);
+    EXPECT_DOUBLE_EQ(out.estimate.curvature_1_m, planner ? 0.0 : 1.0) << "planner " << planner;
+  }
   for (bool steered : {true, false}) {
     LineTracker::Options options;
     options.ts_s = kTs;
