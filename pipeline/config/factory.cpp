@@ -101,7 +101,9 @@ std::unique_ptr<control::PathController> make_controller(const Scenario& s) {
     case ControllerKind::kFiniteStep: {
       control::FiniteStepController::Options options = s.controller.finite_step;
       if (s.controller.finite_step_n_min_auto) {
-        options.n_min = 1;
+        // A lag: one more than the periods its time constant spans.
+        options.n_min =
+            1 + static_cast<int>(std::ceil(s.vehicle.actuator_lag_s / s.controller.ts_s - 1e-9));
         if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive)) {
           constexpr double kSteer_rad = 0.25;
           const double per_period_rad = dual->max_steer_rate_rad_s * s.controller.ts_s;

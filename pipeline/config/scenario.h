@@ -53,9 +53,10 @@ struct ControllerConfig {
   ControllerInput input = ControllerInput::kCamera;
   double ts_s = 0.1;
   control::FiniteStepController::Options finite_step;
-  // finite_step.n_min "auto": 1 for a drive that follows its commands at once; for dual steering
-  // wheels, the periods they take to steer 0.25 rad (3 at 1 rad/s and 0.1 s): a plan that asks
-  // for a new twist in one period is followed a period late and overshoots.
+  // finite_step.n_min "auto": 1 for a drive that follows its commands at once, one more than the
+  // periods an actuator lag's time constant spans; for dual steering wheels, the periods they
+  // take to steer 0.25 rad (3 at 1 rad/s and 0.1 s): a plan that asks for a new twist in one
+  // period is followed late and overshoots.
   bool finite_step_n_min_auto = true;
   control::PidController::Options pid;
   control::Seed004Controller::Options seed004;  // its wheel fields come from the vehicle
