@@ -371,11 +371,15 @@ void read_finite_step(YamlReader& in, control::FiniteStepController::Options* f,
                           {"shrinking", control::HorizonMode::kShrinking},
                           {"fixed", control::HorizonMode::kFixed}});
   f->n_fixed = in.integer(k + "n_fixed", f->n_fixed, 1, 1000);
-  if (in.has(k + "n_min") && in.text(k + "n_min", "") == "auto") {
-    *n_min_auto = true;
-  } else if (in.has(k + "n_min")) {
-    f->n_min = in.integer(k + "n_min", f->n_min, 1, 1000);
-    *n_min_auto = false;
+  if (in.has(k + "n_min")) {
+    const std::string text = in.text(k + "n_min", "");
+    *n_min_auto = text == "auto";
+    if (!*n_min_auto) {
+      if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(in.origin(k + "n_min") + ": key '" + k +
+                         "n_min': expected a whole number or auto, got '" + text + "'");
+      f->n_min = in.integer(k + "n_min", f->n_min, 1, 1000);
+    }
   }
   f->n_max = in.integer(k + "n_max", f->n_max, 1, 1000);
   if (!*n_min_auto && f->n_min > f->n_max) {
