@@ -16,7 +16,8 @@ DriveResponse::DriveResponse(const BodyTwist& start_twist, const Options& option
 double DriveResponse::half_response_s(const BodyTwist& from, const BodyTwist& to) const {
   if (!options_.dual_steer) return options_.actuator_lag_s;
   const DualSteerGeometry& geometry = *options_.dual_steer;
-  const DualSteerWheels a = dual_steer_inverse(geometry, from), b = dual_steer_inverse(geometry, to);
+  const DualSteerWheels a = dual_steer_inverse(geometry, from),
+                        b = dual_steer_inverse(geometry, to);
   double turn_rad = 0.0;
   if (geometry.front_steers()) turn_rad = std::abs(b.front_steer_rad - a.front_steer_rad);
   if (geometry.rear_steers())

@@ -29,7 +29,7 @@ class DriveResponse {
   template <typename Move>
   void step(const BodyTwist& command, double dt_s, Move&& move);
 
-  const BodyTwist& twist() const { return twist_; }  // the twist the vehicle has now
+  const BodyTwist& twist() const { return twist_; }                // the twist the vehicle has now
   const DualSteerWheels& steer_wheels() const { return wheels_; }  // dual steer only
   // Whether the twist follows the command at once (each step is one move with the command).
   bool immediate() const { return !options_.dual_steer && options_.actuator_lag_s <= 0.0; }

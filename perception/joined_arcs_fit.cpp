@@ -209,8 +209,7 @@ double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
   for (double r : residuals) rss += r * r;
   if (!xb) ata(3, 3) = 1.0;  // the one-piece model has no fourth unknown
   const double inverse = ata.inverse()(index, index);
-  return std::sqrt(
-      std::max(0.0, inverse * autocorrelation_time(residuals) * rss / (n - n_params)));
+  return std::sqrt(std::max(0.0, inverse * autocorrelation_time(residuals) * rss / (n - n_params)));
 }
 
 }  // namespace
@@ -263,8 +262,7 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   out.points = kept;
   out.rms_m = std::sqrt(model.rss / std::max(1, kept));
   if (options.curvature_sigma)
-    out.curvature_sigma_1_m =
-        coefficient_sigma(points, by_x, use, model, xb, second_holds ? 3 : 2);
+    out.curvature_sigma_1_m = coefficient_sigma(points, by_x, use, model, xb, second_holds ? 3 : 2);
   return out;
 }
 

@@ -75,11 +75,24 @@ std::unique_ptr<control::PathController> make_dwa(const Scenario& s) {
 }
 
 // How the scenario's vehicle responds to its commands.
-control::DriveResponse::Options plant_options(const Scenario& s) {
+control::DriveResponse::Options drive_response_options(const Scenario& s) {
   control::DriveResponse::Options options{s.vehicle.actuator_lag_s, std::nullopt};
   if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive))
     options.dual_steer = *dual;
   return options;
+}
+
+// The finite-step horizon's n_min "auto" (ControllerConfig::finite_step_n_min_auto): one more
+// than the periods an actuator lag's time constant spans; for dual steering wheels, the periods
+// they take to steer 0.25 rad.
+int auto_n_min(const Scenario& s) {
+  constexpr double kSlack = 1e-9;  // a whole number of periods is not one more
+  if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive)) {
+    constexpr double kSteer_rad = 0.25;
+    const double per_period_rad = dual->max_steer_rate_rad_s * s.controller.ts_s;
+    return std::max(1, static_cast<int>(std::ceil(kSteer_rad / per_period_rad - kSlack)));
+  }
+  return 1 + static_cast<int>(std::ceil(s.vehicle.actuator_lag_s / s.controller.ts_s - kSlack));
 }
 
 }  // namespace
@@ -100,17 +113,8 @@ std::unique_ptr<control::PathController> make_controller(const Scenario& s) {
   switch (s.controller.kind) {
     case ControllerKind::kFiniteStep: {
       control::FiniteStepController::Options options = s.controller.finite_step;
-      if (s.controller.finite_step_n_min_auto) {
-        // A lag: one more than the periods its time constant spans.
-        options.n_min =
-            1 + static_cast<int>(std::ceil(s.vehicle.actuator_lag_s / s.controller.ts_s - 1e-9));
-        if (const auto* dual = std::get_if<control::DualSteerGeometry>(&s.vehicle.drive)) {
-          constexpr double kSteer_rad = 0.25;
-          const double per_period_rad = dual->max_steer_rate_rad_s * s.controller.ts_s;
-          options.n_min = std::max(1, static_cast<int>(std::ceil(kSteer_rad / per_period_rad - 1e-9)));
-        }
-        options.n_min = std::min(options.n_min, options.n_max);
-      }
+      if (s.controller.finite_step_n_min_auto)
+        options.n_min = std::min(auto_n_min(s), options.n_max);
       return std::make_unique<control::FiniteStepController>(options);
     }
     case ControllerKind::kPid:
@@ -137,7 +141,7 @@ control::LineTracker make_tracker(const Scenario& s, double ts_s) {
   options.line_lost_hold_s = s.controller.line_lost_hold_s;
   options.latency_compensation = s.controller.latency_compensation;
   options.curve_turn_fraction = s.controller.curve_turn_fraction;
-  options.drive = plant_options(s);
+  options.drive = drive_response_options(s);
   return control::LineTracker(make_controller(s), s.vehicle.limits, options, start_twist(s));
 }
 
@@ -152,20 +156,18 @@ std::vector<std::string> scenario_warnings(const Scenario& s) {
                             s.controller.kind == ControllerKind::kPid ||
                             s.controller.kind == ControllerKind::kSeed004FfP;
   if (dual && dual->form != control::DriveForm::kBothSteer && sideways_law) {
-    warnings.push_back(
-        "vehicle.dual_steer.drive_form " +
-        std::string(dual->form == control::DriveForm::kRearDriveFront ? "rear_drive"
-                                                                        : "front_drive") +
-        " cannot move its reference point sideways, which controller.kind " +
-        (s.controller.kind == ControllerKind::kFiniteStep ? "finite_step"
-         : s.controller.kind == ControllerKind::kPid      ? "pid"
-                                                          : "seed004_ff_p") +
-        " commands: expect it to leave the line; dwa and improved_dwa steer such a vehicle");
+    warnings.push_back("vehicle.dual_steer.drive_form " + word_of(kDriveFormWords, dual->form) +
+                       " cannot move its reference point sideways, which controller.kind " +
+                       word_of(kControllerKindWords, s.controller.kind) +
+                       " commands: expect it to leave the line; dwa and improved_dwa steer such "
+                       "a vehicle");
   }
   return warnings;
 }
 
-Plant make_plant(const Scenario& s) { return Plant(start_pose(s), start_twist(s), plant_options(s)); }
+Plant make_plant(const Scenario& s) {
+  return Plant(start_pose(s), start_twist(s), drive_response_options(s));
+}
 
 perception::CameraModel render_camera(const Scenario& s) {
   if (!s.true_mount) return perception::camera_model_of(s.camera, s.camera_name);

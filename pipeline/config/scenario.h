@@ -56,7 +56,7 @@ struct ControllerConfig {
   // finite_step.n_min "auto": 1 for a drive that follows its commands at once, one more than the
   // periods an actuator lag's time constant spans; for dual steering wheels, the periods they
   // take to steer 0.25 rad (3 at 1 rad/s and 0.1 s): a plan that asks for a new twist in one
-  // period is followed late and overshoots.
+  // period is followed late and overshoots. Resolved when the controller is made (factory).
   bool finite_step_n_min_auto = true;
   control::PidController::Options pid;
   control::Seed004Controller::Options seed004;  // its wheel fields come from the vehicle
@@ -88,6 +88,10 @@ struct LoopConfig {
 // The words scenario files use for each choice, in the order of the enum.
 inline const std::vector<std::pair<std::string, control::VehicleKind>> kVehicleKindWords = {
     {"mecanum", control::VehicleKind::kMecanum}, {"dual_steer", control::VehicleKind::kDualSteer}};
+inline const std::vector<std::pair<std::string, control::DriveForm>> kDriveFormWords = {
+    {"both_steer", control::DriveForm::kBothSteer},
+    {"rear_drive", control::DriveForm::kRearDriveFront},
+    {"front_drive", control::DriveForm::kFrontDriveRear}};
 inline const std::vector<std::pair<std::string, ControllerKind>> kControllerKindWords = {
     {"finite_step", ControllerKind::kFiniteStep},
     {"pid", ControllerKind::kPid},

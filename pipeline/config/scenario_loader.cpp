@@ -289,11 +289,7 @@ control::MecanumDrive read_mecanum(YamlReader& in) {
 control::DualSteerGeometry read_dual_steer(YamlReader& in) {
   control::DualSteerGeometry d;
   const std::string k = "vehicle.dual_steer.";
-  d.form = in.choice(k + "drive_form", d.form,
-                     std::vector<std::pair<std::string, control::DriveForm>>{
-                         {"both_steer", control::DriveForm::kBothSteer},
-                         {"rear_drive", control::DriveForm::kRearDriveFront},
-                         {"front_drive", control::DriveForm::kFrontDriveRear}});
+  d.form = in.choice(k + "drive_form", d.form, kDriveFormWords);
   d.wheelbase_m = in.positive(k + "wheelbase_m", d.wheelbase_m, 20.0);
   d.max_steer_rad = in.positive(k + "max_steer_rad", d.max_steer_rad, kPi / 2 + 1e-9);
   d.max_steer_rate_rad_s = in.positive(k + "max_steer_rate_rad_s", d.max_steer_rate_rad_s, 100.0);
@@ -361,8 +357,7 @@ void read_vehicle(YamlReader& in, Scenario* s) {
   check_wheels_carry_path_speed(in, *s);
 }
 
-void read_finite_step(YamlReader& in, control::FiniteStepController::Options* f,
-                      bool* n_min_auto) {
+void read_finite_step(YamlReader& in, control::FiniteStepController::Options* f, bool* n_min_auto) {
   const std::string k = "controller.finite_step.";
   f->a_max_m_s2 = in.positive(k + "a_max_m_s2", f->a_max_m_s2, 50.0);
   f->v_x_max_m_s = in.positive(k + "v_x_max_m_s", f->v_x_max_m_s, 10.0);

@@ -19,13 +19,16 @@ class Plant {
 
   // Advances by dt_s under a command held constant over that time.
   void step(const BodyTwist& command, double dt_s) {
-    drive_.step(command, dt_s,
-                [&](double h_s, const BodyTwist& twist) { pose_ = integrate_twist(pose_, twist, h_s); });
+    drive_.step(command, dt_s, [&](double h_s, const BodyTwist& twist) {
+      pose_ = integrate_twist(pose_, twist, h_s);
+    });
   }
 
   const Pose2& pose() const { return pose_; }
   const BodyTwist& twist() const { return drive_.twist(); }  // the twist the vehicle really has
-  const control::DualSteerWheels& steer_wheels() const { return drive_.steer_wheels(); }  // dual steer only
+  const control::DualSteerWheels& steer_wheels() const {
+    return drive_.steer_wheels();
+  }  // dual steer only
 
  private:
   Pose2 pose_;

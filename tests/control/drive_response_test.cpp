@@ -64,8 +64,9 @@ TEST(DriveResponse, AFirstOrderLagFollowsTheExponential) {
 // Dual steering wheels told to move sideways: in the first 0.1 s the vehicle moves sideways only
 // as far as its turning wheels take it (1.5 mm; the command alone would say 5 mm), within 8 %
 // (the drive moves in 5 ms sub-steps with the angle at each sub-step's end, 2.5 ms ahead on
-// average: 5 % ahead of the exact integral, whose angle is 50 ms on average); once the wheels have turned (0.165 s at 1 rad/s), the twist is the
-// command. Half the time the wheels take to turn is what the drive reports as its response.
+// average: 5 % ahead of the exact integral, whose angle is 50 ms on average); once the wheels have
+// turned (0.165 s at 1 rad/s), the twist is the command. Half the time the wheels take to turn is
+// what the drive reports as its response.
 TEST(DriveResponse, DualSteerWheelsTurnAtTheirRateBeforeTheVehicleMovesSideways) {
   DriveResponse::Options options;
   options.dual_steer = both_steer();

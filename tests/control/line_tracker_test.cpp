@@ -72,8 +72,8 @@ TEST(LineTracker, PredictsTheLatencyWithHowTheDriveResponds) {
     options.ts_s = kTs;
     options.path_speed_m_s = 0.3;
     if (steered) options.drive = dual_steer_drive();
-    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.05, 0.0}), kLimits,
-                        options, {0.3, 0.0, 0.0});
+    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.05, 0.0}), kLimits, options,
+                        {0.3, 0.0, 0.0});
     tracker.step(seen(0.0), 0.0);
     const TrackerOutput out = tracker.step(std::nullopt, kTs);  // the same frame, 0.1 s on
     ASSERT_TRUE(out.has_estimate);
@@ -94,8 +94,8 @@ TEST(LineTracker, SteeredWheelsGetACurvatureAheadFedForwardEarly) {
     options.path_speed_m_s = 0.3;
     options.curve_turn_fraction = 0.0;
     options.drive = dual_steer_drive();
-    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.0, 0.0}, !planner),
-                        kLimits, options, {0.3, 0.0, 0.0});
+    LineTracker tracker(std::make_unique<FixedCommand>(BodyTwist{0.3, 0.0, 0.0}, !planner), kLimits,
+                        options, {0.3, 0.0, 0.0});
     LineMeasurement m = seen(0.0);
     m.curvature_change_m = 0.05;
     m.curvature_ahead_1_m = 1.0;

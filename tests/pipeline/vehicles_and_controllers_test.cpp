@@ -109,10 +109,10 @@ TEST(VehiclesAndControllers, ALaggingDrivePlansOverMorePeriodsAndSettlesSooner) 
   double settle_s[2] = {};
   const char* n_min[2] = {"auto", "1"};
   for (int i = 0; i < 2; ++i) {
-    const Scenario s = shipped("mecanum_finite_step_camera.yaml",
-                               {{"vehicle.actuator_lag_s", "0.2"},
-                                {"controller.input", "pose"},
-                                {"controller.finite_step.n_min", n_min[i]}});
+    const Scenario s =
+        shipped("mecanum_finite_step_camera.yaml", {{"vehicle.actuator_lag_s", "0.2"},
+                                                    {"controller.input", "pose"},
+                                                    {"controller.finite_step.n_min", n_min[i]}});
     const RunMetrics m = compute_metrics(run_scenario(s), s);
     ASSERT_TRUE(m.settle_time_s.has_value()) << n_min[i];
     settle_s[i] = *m.settle_time_s;
@@ -125,9 +125,9 @@ TEST(VehiclesAndControllers, ALaggingDrivePlansOverMorePeriodsAndSettlesSooner) 
 // then: both wheels steering, or DWA, is a working pair.
 TEST(VehiclesAndControllers, ADriveThatCannotMoveSidewaysWithASidewaysLawIsNamed) {
   const auto warnings = [](const char* form, const char* controller) {
-    return scenario_warnings(shipped("dual_steer_finite_step_camera.yaml",
-                                     {{"vehicle.dual_steer.drive_form", form},
-                                      {"controller.kind", controller}}));
+    return scenario_warnings(
+        shipped("dual_steer_finite_step_camera.yaml",
+                {{"vehicle.dual_steer.drive_form", form}, {"controller.kind", controller}}));
   };
   for (const char* form : {"rear_drive", "front_drive"}) {
     for (const char* controller : {"finite_step", "pid", "seed004_ff_p"}) {
