@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/angles.h"
+#include "perception/autocorrelation.h"
 
 namespace agv::perception {
 namespace {
@@ -156,25 +157,11 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
       if (obs_side != side) continue;
       by_position.emplace_back(m.arc_position(obs[i].p), residual(curve, obs[i]));
     }
-    const size_t n = by_position.size();
-    if (n < 8) continue;
+    if (by_position.size() < 8) continue;
     std::sort(by_position.begin(), by_position.end());
-    double mean = 0.0, variance = 0.0;
-    for (const auto& [s, r] : by_position) mean += r;
-    mean /= n;
-    for (const auto& [s, r] : by_position) variance += (r - mean) * (r - mean);
-    double tau = 1.0;
-    if (variance > 0.0) {
-      for (size_t lag = 1; lag < n / 4; ++lag) {
-        double sum = 0.0;
-        for (size_t i = 0; i + lag < n; ++i)
-          sum += (by_position[i].second - mean) * (by_position[i + lag].second - mean);
-        const double rho = sum / variance;
-        if (rho < 0.05) break;
-        tau += 2.0 * rho;
-      }
-    }
-    total_tau += tau;
+    std::vector<double> residuals;
+    for (const auto& [s, r] : by_position) residuals.push_back(r);
+    total_tau += integrated_autocorrelation_time(residuals);
     ++sequences;
   }
   return sequences ? total_tau / sequences : 1.0;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "perception/autocorrelation.h"
+
 namespace agv::perception {
 namespace {
 
@@ -110,24 +112,6 @@ class PointMoments {
   double yty_ = 0.0;
 };
 
-// 1 + 2 x the autocorrelation of a sequence of residuals summed over lags until it falls below
-// 0.05 (the integrated autocorrelation time: how many neighbours share one residual's error).
-double autocorrelation_time(const std::vector<double>& residuals) {
-  const int n = static_cast<int>(residuals.size());
-  double variance = 0.0;
-  for (double r : residuals) variance += r * r;
-  double tau = 1.0;
-  if (variance <= 0.0) return tau;
-  for (int lag = 1; lag < n / 4; ++lag) {
-    double sum = 0.0;
-    for (int i = 0; i + lag < n; ++i) sum += residuals[i] * residuals[i + lag];
-    const double rho = sum / variance;
-    if (rho < 0.05) break;
-    tau += 2.0 * rho;
-  }
-  return tau;
-}
-
 // The breakpoints lo + min_piece, then every breakpoint_step, up to hi - min_piece, ranked by
 // their residual from the normal equations, y'y - c'a'y. Nullopt when there is none.
 std::optional<double> best_breakpoint(const PointMoments& m, const JoinedArcsOptions& options) {
@@ -209,7 +193,8 @@ double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
   for (double r : residuals) rss += r * r;
   if (!xb) ata(3, 3) = 1.0;  // the one-piece model has no fourth unknown
   const double inverse = ata.inverse()(index, index);
-  return std::sqrt(std::max(0.0, inverse * autocorrelation_time(residuals) * rss / (n - n_params)));
+  return std::sqrt(
+      std::max(0.0, inverse * integrated_autocorrelation_time(residuals) * rss / (n - n_params)));
 }
 
 }  // namespace
