@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/input_error.h"
+#include "pipeline/config/factory.h"
 #include "pipeline/config/scenario_run.h"
 #include "pipeline/config/scenario_source.h"
 #include "pipeline/dataset.h"
@@ -45,6 +46,8 @@ void add_record_command(CLI::App& app, RecordArgs& args) {
 int run_record(const RecordArgs& args) {
   const pipeline::Scenario scenario =
       pipeline::load_scenario_for_command(args.scenario_file, args.overrides);
+  for (const std::string& warning : pipeline::scenario_warnings(scenario))
+    std::cerr << "agv record: warning: " << warning << '\n';
   pipeline::OutputFolder folder(args.out_dir, "manifest.csv", args.force);
   perception::CameraFile camera = scenario.camera;
   camera.tape_width_m = scenario.tape.width_m;

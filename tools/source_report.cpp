@@ -12,6 +12,7 @@
 #include "common/input_error.h"
 #include "common/statistics.h"
 #include "pipeline/command_stream.h"
+#include "pipeline/config/factory.h"
 #include "pipeline/evaluation/frame_annotation.h"
 #include "pipeline/evaluation/trace_csv.h"
 #include "tools/build_info.h"
@@ -149,6 +150,8 @@ nlohmann::json source_summary(const pipeline::RunResult& result, const SourceFig
   j["warnings"] = nlohmann::json::array();
   if (const std::optional<std::string> warning = tape_width_warning(f.tape_width_m, configured_m))
     j["warnings"].push_back(*warning);
+  for (const std::string& warning : pipeline::scenario_warnings(setup.scenario))
+    j["warnings"].push_back(warning);
   j["perception_rms_e_d_m"] = rms_or_null(f.error_e_d_m);
   j["perception_rms_e_theta_rad"] = rms_or_null(f.error_e_theta_rad);
   j["commands"] = result.rows.size();

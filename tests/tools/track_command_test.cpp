@@ -320,6 +320,23 @@ TEST_F(AgvTrack, SaysOnceAndEarlyThatTheTapeIsWiderThanTheCameraFileSays) {
   EXPECT_EQ(s["frames_lost"].get<int>(), 0);
 }
 
+// Replaying for a vehicle whose drive cannot make the sideways speed the chosen law commands
+// (dual steer rear_drive with finite_step): the run says so once on stderr and in summary.json.
+TEST_F(AgvTrack, ADriveThatCannotMoveSidewaysWithASidewaysLawIsWarnedOf) {
+  const auto r = run_agv("replay --quiet --no-video " + std::string(AGV_SOURCE_DIR) +
+                         "/datasets/blue_concrete_straight --set vehicle.kind=dual_steer --set "
+                         "vehicle.dual_steer.drive_form=rear_drive --out " +
+                         path("replay"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string said = "rear_drive cannot move its reference point sideways";
+  const size_t first = r.output.find(said);
+  ASSERT_NE(first, std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find(said, first + 1), std::string::npos) << "said twice:\n" << r.output;
+  const nlohmann::json s = read_json(dir_ / "replay" / "summary.json");
+  ASSERT_EQ(s["warnings"].size(), 1u);
+  EXPECT_NE(s["warnings"][0].get<std::string>().find(said), std::string::npos);
+}
+
 TEST_F(AgvTrack, ReplaysABareFolderOfRealImages) {
   const std::string images = std::string(AGV_SHARED_DIR) + "/data/real/rcj_black_tape_topdown";
   const auto r = run_agv("replay --quiet --no-video " + images + " --camera " + AGV_SOURCE_DIR +
