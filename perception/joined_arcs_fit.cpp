@@ -151,7 +151,8 @@ std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vec
   m.normal_equations(std::nullopt, 0, &ata, &aty);
   one.c = solve_normal(ata, aty, 3);
   one.c[3] = one.c[2];
-  const std::optional<double> xb = n >= 6 ? best_breakpoint(m, options) : std::nullopt;
+  const std::optional<double> xb =
+      options.joint && n >= 6 ? best_breakpoint(m, options) : std::nullopt;
   Solved two;
   if (xb) {
     m.normal_equations(xb, m.first_beyond(*xb), &ata, &aty);
@@ -197,6 +198,71 @@ double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
       std::max(0.0, inverse * integrated_autocorrelation_time(residuals) * rss / (n - n_params)));
 }
 
+// The moments of points for the one-piece model y = a + b x + k x^2 / 2: sums of x^0..x^4 and
+// of x^0..x^2 y, from which its normal equations follow.
+struct OnePieceMoments {
+  double x[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, xy[3] = {0.0, 0.0, 0.0};
+
+  void add(const Eigen::Vector2d& p, double weight) {
+    const double x1 = p.x(), x2 = x1 * x1;
+    x[0] += weight;
+    x[1] += weight * x1;
+    x[2] += weight * x2;
+    x[3] += weight * x2 * x1;
+    x[4] += weight * x2 * x2;
+    xy[0] += weight * p.y();
+    xy[1] += weight * x1 * p.y();
+    xy[2] += weight * x2 * p.y();
+  }
+  // (a, b, k) of the least-squares fit.
+  Eigen::Vector3d solve() const {
+    Eigen::Matrix3d ata;
+    ata << x[0], x[1], 0.5 * x[2], x[1], x[2], 0.5 * x[3], 0.5 * x[2], 0.5 * x[3], 0.25 * x[4];
+    return ata.ldlt().solve(Eigen::Vector3d(xy[0], xy[1], 0.5 * xy[2]));
+  }
+};
+
+double one_piece_residual(const Eigen::Vector3d& c, const Eigen::Vector2d& p) {
+  return c[0] + p.x() * (c[1] + 0.5 * c[2] * p.x()) - p.y();
+}
+
+// One piece from the points' moments in one pass; the points far off dropped once by taking
+// their moments out again: what best_model and the outlier pass below do for one piece, without
+// ordering the points.
+std::optional<JoinedArcs> fit_one_piece(const std::vector<Eigen::Vector2d>& points,
+                                        double outlier_sigmas) {
+  OnePieceMoments moments;
+  for (const Eigen::Vector2d& p : points) moments.add(p, 1.0);
+  Eigen::Vector3d c = moments.solve();
+  std::vector<double> residuals(points.size());
+  for (size_t i = 0; i < points.size(); ++i) residuals[i] = std::abs(one_piece_residual(c, points[i]));
+  std::vector<double> sorted = residuals;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double limit = outlier_sigmas * std::max(1e-6, 1.4826 * sorted[sorted.size() / 2]);
+  int kept = static_cast<int>(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (residuals[i] <= limit) continue;
+    moments.add(points[i], -1.0);
+    --kept;
+  }
+  if (kept < 5) return std::nullopt;  // three unknowns and two more points
+  if (kept < static_cast<int>(points.size())) c = moments.solve();
+  double rss = 0.0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (residuals[i] > limit) continue;
+    const double r = one_piece_residual(c, points[i]);
+    rss += r * r;
+  }
+  if (!std::isfinite(rss)) return std::nullopt;
+  JoinedArcs out;
+  out.offset_m = c[0];
+  out.slope = c[1];
+  out.curvature_1_m = out.curvature_far_1_m = c[2];
+  out.points = kept;
+  out.rms_m = std::sqrt(rss / kept);
+  return out;
+}
+
 }  // namespace
 
 std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
@@ -208,12 +274,16 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
     after = after || p.x() > 0.0;
   }
   if (options.both_sides && (!before || !after)) return std::nullopt;
+  if (!options.joint && !options.curvature_sigma)
+    return fit_one_piece(points, options.outlier_sigmas);
   std::vector<bool> use(points.size(), true);
-  // The points in order along x, once for both fits.
+  // The points in order along x, once for both fits (the breakpoint search and the residuals'
+  // autocorrelation need the order; one piece alone does not).
   std::vector<const Eigen::Vector2d*> by_x;
   for (const Eigen::Vector2d& p : points) by_x.push_back(&p);
-  std::sort(by_x.begin(), by_x.end(),
-            [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
+  if (options.joint || options.curvature_sigma)
+    std::sort(by_x.begin(), by_x.end(),
+              [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
   auto [model, xb] = best_model(points, by_x, use, options);
   // Once: drop the points far off (a stray chord, a seam), then fit again.
   std::vector<double> residuals;

@@ -34,6 +34,7 @@ struct JoinedArcsOptions {
   double outlier_sigmas = 4.0;       // points this many robust sigmas off are dropped, once
   bool both_sides = true;  // the points must lie on both sides of x = 0 (false: extrapolate)
   bool curvature_sigma = false;  // also work out curvature_sigma_1_m
+  bool joint = true;             // false: one piece only (no breakpoint search; cheaper)
 };
 
 // Nullopt when fewer than 6 points, or (options.both_sides) they do not span both sides of

@@ -195,10 +195,17 @@ LineMeasurement with_model(const LineMeasurement& in_view, const CurveModel& mod
   return m;
 }
 
-Eigen::Vector2d rotated(const Eigen::Vector2d& p, double angle_rad) {
-  const double c = std::cos(angle_rad), s = std::sin(angle_rad);
-  return {c * p.x() - s * p.y(), s * p.x() + c * p.y()};
-}
+// A turn by a fixed angle, its cosine and sine worked out once for the many points it turns.
+class Turn {
+ public:
+  explicit Turn(double angle_rad) : c_(std::cos(angle_rad)), s_(std::sin(angle_rad)) {}
+  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+    return {c_ * p.x() - s_ * p.y(), s_ * p.x() + c_ * p.y()};
+  }
+
+ private:
+  double c_, s_;
+};
 
 }  // namespace
 
@@ -312,8 +319,9 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   for (int pass = 0;; ++pass) {
     std::vector<Eigen::Vector2d> local;
     std::vector<double> along;
+    const Turn to_frame(-frame_rad);
     for (const Eigen::Vector2d& p : in_vehicle) {
-      const Eigen::Vector2d q = rotated(p, -frame_rad);
+      const Eigen::Vector2d q = to_frame(p);
       if (std::abs(q.x()) > options_.window_m || std::abs(q.y()) > options_.window_across_m)
         continue;
       local.push_back(q);
@@ -349,8 +357,9 @@ std::optional<LineMeasurement> PathMemory::across_gap(
       tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad) : 0.0;
   std::vector<Eigen::Vector2d> local;
   std::vector<double> along;
+  const Turn to_frame(-frame_rad);
   for (const Eigen::Vector2d& p : in_vehicle) {
-    const Eigen::Vector2d q = rotated(p, -frame_rad);
+    const Eigen::Vector2d q = to_frame(p);
     if (std::abs(q.y()) > options_.window_across_m || q.x() < -options_.keep_behind_m ||
         q.x() > options_.max_gap_m + options_.gap_end_m)
       continue;
@@ -392,12 +401,13 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   };
   const Eigen::Vector2d p0 = extreme(ends[0], true), p1 = extreme(ends[1], false);
   const double chord_rad = std::atan2(p1.y() - p0.y(), p1.x() - p0.x());
+  const Turn along_chord(-chord_rad);
   // Value and slope at x_end of y = a + b (x - x_end) + c (x - x_end)^2, least squares.
   auto end_of = [&](const std::vector<Eigen::Vector2d>& points, double x_end) {
     Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
     Eigen::Vector3d aty = Eigen::Vector3d::Zero();
     for (const Eigen::Vector2d& q : points) {
-      const Eigen::Vector2d r = rotated(q, -chord_rad);
+      const Eigen::Vector2d r = along_chord(q);
       const double u = r.x() - x_end;
       const Eigen::Vector3d row(1.0, u, u * u);
       ata += row * row.transpose();
@@ -405,7 +415,7 @@ std::optional<LineMeasurement> PathMemory::across_gap(
     }
     return Eigen::Vector3d(ata.ldlt().solve(aty));
   };
-  const double x0 = rotated(p0, -chord_rad).x(), x1 = rotated(p1, -chord_rad).x();
+  const double x0 = along_chord(p0).x(), x1 = along_chord(p1).x();
   const Eigen::Vector3d behind = end_of(ends[0], x0), ahead = end_of(ends[1], x1);
   if (!behind.allFinite() || !ahead.allFinite() || !(x1 > x0)) return std::nullopt;
   // Where the two ends' directions disagree (the tape remembered behind still bends out of a
@@ -473,16 +483,24 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
     grid.for_each_near(at, [&](size_t j) { near.push_back(j); });
     std::vector<Eigen::Vector2d> local;
     double hi = -1.0;
+    const Turn to_window(-heading);
     for (size_t j : near) {
-      const Eigen::Vector2d q = rotated(in_vehicle[j] - at, -heading);
+      const Eigen::Vector2d q = to_window(in_vehicle[j] - at);
       if (std::abs(q.x()) > h || std::abs(q.y()) > across_m) continue;
       local.push_back(q);
       hi = std::max(hi, q.x());
     }
     if (hi < 0.5 * h) break;  // the evidence ends here
-    const std::optional<JoinedArcs> fit = fit_joined_arcs(local);
+    // One piece first (no breakpoint search): the joined arcs only where its curvature
+    // suggests a change (a window across a joint reads about the mean of its two pieces).
+    JoinedArcsOptions one_piece;
+    one_piece.joint = false;
+    std::optional<JoinedArcs> fit = fit_joined_arcs(local, one_piece);
+    if (fit && std::abs(fit->curvature_1_m - origin.curvature_1_m) >
+                   options_.preview_suspect_fraction * options_.preview_change_1_m)
+      fit = fit_joined_arcs(local);
     if (!fit) break;
-    at += rotated({0.0, fit->offset_m}, heading);
+    at += Turn(heading)({0.0, fit->offset_m});
     heading += std::atan(fit->slope);
     curvature = fit->curvature_1_m;
     // A change is larger than preview_change_1_m and than the window's own uncertainty (worn

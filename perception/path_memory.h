@@ -82,6 +82,10 @@ struct PathMemoryOptions {
   double preview_step_m = 0.02;
   double preview_change_1_m = 0.15;
   double preview_change_sigmas = 3.0;  // ... and this many of the window's standard deviations
+  // A window is fitted with one piece, and with joined arcs (fit_joined_arcs' breakpoint search)
+  // only where that piece's curvature differs from the origin's by this fraction of
+  // preview_change_1_m (a window across a joint reads about the mean of its two pieces').
+  double preview_suspect_fraction = 0.5;
 };
 
 // The tape the camera has seen, remembered in the frame of the vehicle's odometry, so that e_d
