@@ -235,7 +235,8 @@ std::optional<JoinedArcs> fit_one_piece(const std::vector<Eigen::Vector2d>& poin
   for (const Eigen::Vector2d& p : points) moments.add(p, 1.0);
   Eigen::Vector3d c = moments.solve();
   std::vector<double> residuals(points.size());
-  for (size_t i = 0; i < points.size(); ++i) residuals[i] = std::abs(one_piece_residual(c, points[i]));
+  for (size_t i = 0; i < points.size(); ++i)
+    residuals[i] = std::abs(one_piece_residual(c, points[i]));
   std::vector<double> sorted = residuals;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const double limit = outlier_sigmas * std::max(1e-6, 1.4826 * sorted[sorted.size() / 2]);

@@ -209,17 +209,37 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   constexpr double kHoldTolerance_rad = 0.5;
   const bool holding = history && history->branch_heading_rad.has_value();
   const double held_rad = holding ? *history->branch_heading_rad : 0.0;
+  // Straight on, the way held does not jump: a way farther from it than the vehicle turns in a
+  // few frames is this frame's line to follow, but the direction held stays (the way held may be
+  // missed in a frame: a leg too close to the other to be a line of its own).
+  constexpr double kStraightJump_rad = 0.15;
+  auto held_again = [&](double h) -> std::optional<double> {
+    if (holding && choice == BranchChoice::kStraight &&
+        std::abs(wrap_angle_rad(h - held_rad)) > kStraightJump_rad)
+      return std::nullopt;
+    return h;
+  };
+  // Straight on from a junction in view: the direction of the tape followed before, there
+  // (where the tape comes in on a bend, its direction at the fork, not the vehicle's heading: a
+  // fork's way straight on is the one that continues the incoming tape); without one, the
+  // vehicle's heading, as for legs that do not meet in view (they part near the vehicle).
+  auto straight_on_rad = [&](const Eigen::Vector2d& point) {
+    if (!history || !history->followed) return 0.0;
+    return heading_at(*history->followed, history->followed->arc_position(point));
+  };
   // The score of leaving in direction h: a way near the held branch first (of those, the
   // leftmost for left, the rightmost for right, the nearest the held one for straight: at a Y
-  // fork the first frames see both ways nearly straight ahead), then the choice.
-  auto score_of = [&](double h, double offset_m) {
+  // fork the first frames see both ways nearly straight ahead), then the choice (straight: the
+  // way nearest straight_on_rad, where it was seen).
+  auto score_of = [&](double h, double offset_m, double straight_rad) {
     const double from_held = std::abs(wrap_angle_rad(h - held_rad));
     const double held_bonus = holding && from_held < kHoldTolerance_rad ? 10.0 : 0.0;
     if (held_bonus > 0.0 && choice == BranchChoice::kStraight) return held_bonus - from_held;
-    return held_bonus + (choice == BranchChoice::kLeft ? h
-                         : choice == BranchChoice::kRight
-                             ? -h
-                             : -std::abs(h) - std::abs(offset_m) / 0.05);
+    return held_bonus +
+           (choice == BranchChoice::kLeft ? h
+            : choice == BranchChoice::kRight
+                ? -h
+                : -std::abs(wrap_angle_rad(h - straight_rad)) - std::abs(offset_m) / 0.05);
   };
   // A line followed as it is: in the direction it was followed in the frame before, compared
   // where the line is seen (at the origin's foot point, far from it, a tight curve's tangent may
@@ -251,11 +271,11 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
         const double near_s = m.arc_position(lines[i].model.point_at(lines[i].s_min_m));
         const double far_s = m.arc_position(lines[i].model.point_at(lines[i].s_max_m));
         const double h = heading_at(m, std::min(near_s, far_s));
-        const double score = score_of(h, lines[i].model.e_d_m);
+        const double score = score_of(h, lines[i].model.e_d_m, 0.0);
         if (score > best_score) {
           best_score = score;
           followed.line = i;
-          followed.branch_heading_rad = h;
+          followed.branch_heading_rad = held_again(h);
         }
       }
     }
@@ -266,14 +286,15 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   double best_score = -std::numeric_limits<double>::infinity();
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
     if (k == junction->incoming) continue;
-    const double score = score_of(junction->branches[k].heading_rad, 0.0);
+    const double score =
+        score_of(junction->branches[k].heading_rad, 0.0, straight_on_rad(junction->point_m));
     if (score > best_score) {
       best_score = score;
       chosen = k;
     }
   }
   const Branch* branch = chosen >= 0 ? &junction->branches[chosen] : nullptr;
-  if (branch) followed.branch_heading_rad = branch->heading_rad;
+  if (branch) followed.branch_heading_rad = held_again(branch->heading_rad);
   // Line i oriented so that it leaves the junction in direction h.
   auto leaving = [&](int i, double h) {
     const CurveModel& m = lines[i].model;

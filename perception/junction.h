@@ -66,12 +66,14 @@ struct FollowHistory {
 
 // The line to follow and its direction: without a junction, the best line; at a junction the
 // outgoing branch the choice names (left: most counter-clockwise, right: most clockwise,
-// straight: nearest the vehicle's heading) when it leaves within max_turn_rad of straight
-// ahead; a sharper branch is taken once the vehicle gets there, so until then the incoming line
-// is followed. With a history, the branch chosen in the frames before is kept to while one
-// leaves within 0.5 rad of its direction (the choice decides once per junction, and a leg seen
-// in some frames only does not make the choice swing), and a line not chosen as a branch keeps
-// the direction it was followed in (no 180 deg flips of a line across the view). Returns an
+// straight: nearest the direction the tape followed before has where the legs meet, when they
+// meet in view, else nearest the vehicle's heading) when it leaves within max_turn_rad of straight
+// ahead; a sharper branch is taken once the vehicle gets there, so until then the incoming line is
+// followed. With a history, the branch chosen in the frames before is kept to while one leaves
+// within 0.5 rad of its direction (the choice decides once per junction, and a leg seen in some
+// frames only does not make the choice swing; straight on, a frame whose nearest way is more than
+// 0.15 rad from the one held does not move the direction held), and a line not chosen as a branch
+// keeps the direction it was followed in (no 180 deg flips of a line across the view). Returns an
 // index into `lines`, the model oriented along the travel direction and the chosen branch's
 // heading (when there was a choice to make).
 struct FollowedLine {

@@ -159,8 +159,7 @@ TEST(JoinedArcsFit, TheCurvaturesUncertaintyIsItsScatter) {
 // tens of micrometres). Its joint is never sought, even on a line joined to an arc.
 TEST(JoinedArcsFit, OnePieceIsTheLeastSquaresOfTheGoodPoints) {
   // The arc starts at x = -0.03 m (y = 0.002 m + (x + 0.03 m)^2 for k = 2 / m).
-  const std::vector<Eigen::Vector2d> good =
-      line_then_arc(0.002, -0.03, 2.0, -0.03, 0.03, 5e-5, 17);
+  const std::vector<Eigen::Vector2d> good = line_then_arc(0.002, -0.03, 2.0, -0.03, 0.03, 5e-5, 17);
   std::vector<Eigen::Vector2d> points = good;
   for (double x : {-0.02, -0.005, 0.01, 0.025})
     points.push_back({x, 0.002 + (x + 0.03) * (x + 0.03) + 0.003});

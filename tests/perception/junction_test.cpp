@@ -105,15 +105,71 @@ TEST(Junction, TheBranchChosenBeforeIsKeptToThroughTheJunction) {
     }
     return out;
   };
-  const std::vector<DetectedLine> far = turned(20 * kDeg);  // legs at +20 and -50 deg
-  const std::optional<Junction> far_junction = junction_of(far);
-  ASSERT_TRUE(far_junction);
-  EXPECT_EQ(choose_line(far, far_junction, BranchChoice::kStraight, 1.05).line, 1)
-      << "without history: the leg nearest straight ahead";
-  const FollowedLine held = choose_line(far, far_junction, BranchChoice::kStraight, 1.05, &history);
-  EXPECT_EQ(held.line, 2) << "with history: the leg chosen before (-30 deg then, -50 now)";
-  ASSERT_TRUE(held.branch_heading_rad);
-  EXPECT_NEAR(*held.branch_heading_rad, -50 * kDeg, 1e-6);
+  // The turn comes frame by frame (5 deg a frame), the choice each frame held for the next.
+  for (int step = 1; step <= 4; ++step) {
+    const std::vector<DetectedLine> far = turned(5 * step * kDeg);  // finally +20 and -50 deg
+    const std::optional<Junction> far_junction = junction_of(far);
+    ASSERT_TRUE(far_junction);
+    const FollowedLine held =
+        choose_line(far, far_junction, BranchChoice::kStraight, 1.05, &history);
+    EXPECT_EQ(held.line, 2) << "with history: the leg chosen before (-30 deg then)";
+    ASSERT_TRUE(held.branch_heading_rad);
+    EXPECT_NEAR(*held.branch_heading_rad, (-30 - 5 * step) * kDeg, 1e-6);
+    history.update(held.branch_heading_rad, held.model);
+    if (step < 4) continue;
+    EXPECT_EQ(choose_line(far, far_junction, BranchChoice::kStraight, 1.05).line, 1)
+        << "without history: the leg nearest straight ahead";
+  }
+}
+
+// A fork reached on a bend to the right (R 1.2 m): the way straight on is the leg that continues
+// the incoming tape (its direction at the fork, -0.25 rad), not the leg nearer the vehicle's
+// heading (a branch bending away to the left, at -0.08 rad): the tape followed before gives the
+// direction straight on.
+std::vector<DetectedLine> fork_on_a_bend() {
+  const CurveModel bend{0.0, 0.0, -1.0 / 1.2};
+  const Eigen::Vector2d fork = bend.point_at(0.3);
+  auto leg = [&](double heading_rad) {
+    return seen_line(fork.x(), fork.y(), fork.x() + 0.1 * std::cos(heading_rad),
+                     fork.y() + 0.1 * std::sin(heading_rad));
+  };
+  const Eigen::Vector2d start = bend.point_at(0.15);
+  return {seen_line(start.x(), start.y(), fork.x(), fork.y()), leg(-0.25), leg(-0.08)};
+}
+
+TEST(Junction, StraightOnContinuesTheTapeComingIn) {
+  const std::vector<DetectedLine> lines = fork_on_a_bend();
+  const std::optional<Junction> junction = junction_of(lines);
+  ASSERT_TRUE(junction);
+  FollowHistory history;
+  history.update(std::nullopt, CurveModel{0.0, 0.0, -1.0 / 1.2});
+  const FollowedLine straight =
+      choose_line(lines, junction, BranchChoice::kStraight, 1.05, &history);
+  EXPECT_EQ(straight.line, 1);
+  ASSERT_TRUE(straight.branch_heading_rad);
+  EXPECT_NEAR(*straight.branch_heading_rad, -0.25, 0.01);
+  EXPECT_EQ(choose_line(lines, junction, BranchChoice::kStraight, 1.05).line, 2)
+      << "without the tape followed before: the leg nearer the vehicle's heading";
+}
+
+// The way held straight on is missed in a frame (a leg too close to the other to be a line of
+// its own): that frame's line is the other leg, but the direction held stays, and the next frame
+// that shows the way held follows it again.
+TEST(Junction, AWayHeldStraightOnIsNotDroppedForAFrameThatMissesIt) {
+  const std::vector<DetectedLine> lines = fork_on_a_bend();
+  FollowHistory history;
+  history.update(-0.25, CurveModel{0.0, 0.0, -1.0 / 1.2});
+  // The frame that misses the way held: the stem and the branch only.
+  const std::vector<DetectedLine> missed = {lines[0], lines[2]};
+  const FollowedLine first =
+      choose_line(missed, junction_of(missed), BranchChoice::kStraight, 1.05, &history);
+  EXPECT_FALSE(first.branch_heading_rad) << "the branch, 0.17 rad from the way held";
+  history.update(first.branch_heading_rad, first.model);
+  ASSERT_TRUE(history.branch_heading_rad);
+  EXPECT_NEAR(*history.branch_heading_rad, -0.25, 1e-9);
+  const FollowedLine again =
+      choose_line(lines, junction_of(lines), BranchChoice::kStraight, 1.05, &history);
+  EXPECT_EQ(again.line, 1);
 }
 
 TEST(Junction, TheHeldBranchIsForgottenOnceTheJunctionIsBehind) {
