@@ -197,9 +197,16 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
     for (double width_m = 0.008; width_m <= 0.13; width_m *= 2.0)
       if (width_m <= widest_m || widths_m.empty()) widths_m.push_back(width_m);
   }
+  tape_width_px_ = *std::max_element(widths_m.begin(), widths_m.end()) / footprint_m;
+  // A tape between the last bar that fits and the widest that fits (a low camera: 100 mm tape
+  // across half the view) is answered to by neither: the coarse search has the widest that fits
+  // too (the scans' flanks stay those of the ladder: wider ones reach other tape at junctions).
+  if (options_.tape.width_m <= 0.0 && widest_m < 0.128 && widest_m > 1.4 * widths_m.back()) {
+    widths_m.push_back(widest_m);
+    widest_bar_beyond_ladder_ = true;
+  }
   for (double width_m : widths_m)
     bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
-  tape_width_px_ = *std::max_element(widths_m.begin(), widths_m.end()) / footprint_m;
   options_.lines.expected_width_m = options_.tape.width_m;
   if (options.tape.width_m > 0.0) {
     Options any_width = options;
@@ -248,7 +255,7 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
   // followed was last found on (on a blotchy floor, the blotches' polarity can win), the
   // remembered axis is searched first.
   const std::optional<ContrastAxis> axis =
-      choose_contrast_axis(small, options_.tape.color_bgr, bar_widths_small_px_);
+      choose_contrast_axis(small, options_.tape.color_bgr, ladder_bars_small_px());
   const std::optional<ContrastAxis> remembered = history ? history->axis : std::nullopt;
   if (remembered && (!axis || !same_colour_direction(*axis, *remembered))) {
     const LineMeasurement m = search_on_axis(frame, small, *remembered, stamp_s, &d, history);
@@ -262,11 +269,29 @@ LineMeasurement LineEstimator::search_on_axis(const cv::Mat& frame, const cv::Ma
                                               const ContrastAxis& axis, double stamp_s,
                                               LineDetection* detection,
                                               const FollowHistory* history) const {
+  // The widest bar beyond the ladder only where the ladder's bars give no line: on narrower tape
+  // it answers to the two legs of a fork near their split as to one wide tape.
+  const LineMeasurement m =
+      search_with_bars(frame, small, axis, ladder_bars_small_px(), stamp_s, detection, history);
+  if (m.line_found || !widest_bar_beyond_ladder_) return m;
+  return search_with_bars(frame, small, axis, bar_widths_small_px_, stamp_s, detection, history);
+}
+
+std::vector<double> LineEstimator::ladder_bars_small_px() const {
+  return {bar_widths_small_px_.begin(),
+          bar_widths_small_px_.end() - (widest_bar_beyond_ladder_ ? 1 : 0)};
+}
+
+LineMeasurement LineEstimator::search_with_bars(const cv::Mat& frame, const cv::Mat& small,
+                                                const ContrastAxis& axis,
+                                                const std::vector<double>& bars_small_px,
+                                                double stamp_s, LineDetection* detection,
+                                                const FollowHistory* history) const {
   LineDetection& d = *detection;
   d = LineDetection{};
   const int ds = options_.downsample;
   const TapeRegions coarse =
-      find_tape_regions(small, axis, ds, bar_widths_small_px_, options_.min_region_area_small_px);
+      find_tape_regions(small, axis, ds, bars_small_px, options_.min_region_area_small_px);
   if (coarse.regions.empty()) return not_found(stamp_s, "no tape-like region", &d);
   d.axis = axis;
   d.floor_noise = coarse.floor_noise;

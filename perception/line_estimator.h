@@ -110,12 +110,23 @@ class LineEstimator {
   LineMeasurement search_on_axis(const cv::Mat& frame, const cv::Mat& small,
                                  const ContrastAxis& axis, double stamp_s, LineDetection* detection,
                                  const FollowHistory* history) const;
+  // The bars of the ladder: bar_widths_small_px_ without the widest beyond it, if there is one.
+  std::vector<double> ladder_bars_small_px() const;
+  // search_on_axis with these bars (bar_widths_small_px_ or the ladder's part of it).
+  LineMeasurement search_with_bars(const cv::Mat& frame, const cv::Mat& small,
+                                   const ContrastAxis& axis,
+                                   const std::vector<double>& bars_small_px, double stamp_s,
+                                   LineDetection* detection, const FollowHistory* history) const;
 
   CameraModel camera_;
   Options options_;
   std::shared_ptr<const FloorMap> floor_map_;  // FloorMap::shared
   std::vector<double> bar_widths_small_px_;    // bar detector widths (see find_tape_regions)
   double tape_width_px_ = 0.0;                 // largest expected tape width in full-size pixels
+  // Whether the last bar is the widest that fits the view, beyond the ladder's widest
+  // (tape_width_px_): searched with only where the ladder finds no line (the colour axis is
+  // chosen with the ladder's).
+  bool widest_bar_beyond_ladder_ = false;
   // With a configured width: the same estimator for tape of any width (the hint's fallback).
   std::shared_ptr<const LineEstimator> any_width_;
 };
