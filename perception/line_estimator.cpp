@@ -269,11 +269,14 @@ LineMeasurement LineEstimator::search_on_axis(const cv::Mat& frame, const cv::Ma
                                               const ContrastAxis& axis, double stamp_s,
                                               LineDetection* detection,
                                               const FollowHistory* history) const {
-  // The widest bar beyond the ladder only where the ladder's bars give no line: on narrower tape
-  // it answers to the two legs of a fork near their split as to one wide tape.
+  // The widest bar beyond the ladder only where the ladder's bars give no line for the sparse
+  // evidence of a tape wider than they are (on narrower tape it answers to the two legs of a
+  // fork near their split as to one wide tape; on frames without tape, a second chance at
+  // floor texture).
   const LineMeasurement m =
       search_with_bars(frame, small, axis, ladder_bars_small_px(), stamp_s, detection, history);
-  if (m.line_found || !widest_bar_beyond_ladder_) return m;
+  if (m.line_found || !widest_bar_beyond_ladder_ || detection->rejected_because != kSparseEvidence)
+    return m;
   return search_with_bars(frame, small, axis, bar_widths_small_px_, stamp_s, detection, history);
 }
 

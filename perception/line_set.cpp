@@ -282,7 +282,7 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
   // texture blobs has it only here and there.
   line.coverage = std::min(1.0, fit.inlier_count * options.scan_spacing_m / span_m);
   if (line.coverage < options.min_coverage) {
-    reject("evidence too sparse along the line");
+    reject(kSparseEvidence);
     return std::nullopt;
   }
   if (inlier_fraction < options.min_inlier_fraction) {

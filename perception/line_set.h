@@ -69,6 +69,10 @@ std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const C
                                        double prior_width_m, const LineSetOptions& options,
                                        std::vector<std::string>* rejections = nullptr);
 
+// The rejection of a line whose evidence covers too little of its length (what the edges of a
+// tape wider than the scan windows give: chords only where a window happened to reach both).
+inline constexpr const char* kSparseEvidence = "evidence too sparse along the line";
+
 // Up to max_lines lines through the chords' centres, found one after the other (the best
 // supported first), each checked for width, width consistency, length and straightness of
 // evidence. `rejections` (optional) receives why candidates were turned down.
