@@ -198,9 +198,10 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
       if (width_m <= widest_m || widths_m.empty()) widths_m.push_back(width_m);
   }
   tape_width_px_ = *std::max_element(widths_m.begin(), widths_m.end()) / footprint_m;
-  // A tape between the last bar that fits and the widest that fits (a low camera: 100 mm tape
-  // across half the view) is answered to by neither: the coarse search has the widest that fits
-  // too (the scans' flanks stay those of the ladder: wider ones reach other tape at junctions).
+  // A tape between the last bar that fits and the widest that fits (a low camera: 90 mm tape
+  // across nearly half the view) is answered to by neither: the widest that fits too, for a
+  // second search (search_on_axis; the scans' flanks stay those of the ladder: wider ones reach
+  // other tape at junctions).
   if (options_.tape.width_m <= 0.0 && widest_m < 0.128 && widest_m > 1.4 * widths_m.back()) {
     widths_m.push_back(widest_m);
     widest_bar_beyond_ladder_ = true;

@@ -124,8 +124,8 @@ class LineEstimator {
   std::vector<double> bar_widths_small_px_;    // bar detector widths (see find_tape_regions)
   double tape_width_px_ = 0.0;                 // largest expected tape width in full-size pixels
   // Whether the last bar is the widest that fits the view, beyond the ladder's widest
-  // (tape_width_px_): searched with only where the ladder finds no line (the colour axis is
-  // chosen with the ladder's).
+  // (tape_width_px_): searched with only where the ladder's candidate was refused for sparse
+  // evidence (the colour axis is chosen with the ladder's).
   bool widest_bar_beyond_ladder_ = false;
   // With a configured width: the same estimator for tape of any width (the hint's fallback).
   std::shared_ptr<const LineEstimator> any_width_;
