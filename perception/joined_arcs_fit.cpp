@@ -39,6 +39,14 @@ Eigen::Vector4d solve_normal(const Eigen::Matrix4d& ata, const Eigen::Vector4d& 
   return c;
 }
 
+// The normal equations of the one-piece model y = a + b x + k x^2 / 2 from the sums of x^0..x^4
+// (x) and of x^0..x^2 y (xy) over the points.
+void one_piece_normal_equations(const double* x, const double* xy, Eigen::Matrix3d* ata,
+                                Eigen::Vector3d* aty) {
+  *ata << x[0], x[1], 0.5 * x[2], x[1], x[2], 0.5 * x[3], 0.5 * x[2], 0.5 * x[3], 0.25 * x[4];
+  *aty << xy[0], xy[1], 0.5 * xy[2];
+}
+
 // The points marked, sorted by x, with suffix sums of their moments: the normal equations of the
 // model for any breakpoint from a handful of sums. The points beyond a breakpoint add h = (x -
 // xb)^2 / 2 terms whose sums are polynomials in xb over the moments of those points (x^0..x^4,
@@ -73,13 +81,11 @@ class PointMoments {
     const std::array<double, 8>& all = suffix_[0];
     Eigen::Matrix4d& g = *ata;
     g.setZero();
-    g(0, 0) = all[0];
-    g(0, 1) = g(1, 0) = all[1];
-    g(1, 1) = all[2];
-    g(0, 2) = g(2, 0) = 0.5 * all[2];
-    g(1, 2) = g(2, 1) = 0.5 * all[3];
-    g(2, 2) = 0.25 * all[4];
-    *aty = Eigen::Vector4d(all[5], all[6], 0.5 * all[7], 0.0);
+    Eigen::Matrix3d one_ata;
+    Eigen::Vector3d one_aty;
+    one_piece_normal_equations(all.data(), all.data() + 5, &one_ata, &one_aty);
+    g.topLeftCorner<3, 3>() = one_ata;
+    *aty << one_aty, 0.0;
     if (!xb) return;
     const std::array<double, 8>& m = suffix_[first];
     const double b1 = *xb, b2 = b1 * b1, b3 = b2 * b1, b4 = b2 * b2;
@@ -198,8 +204,8 @@ double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
       std::max(0.0, inverse * integrated_autocorrelation_time(residuals) * rss / (n - n_params)));
 }
 
-// The moments of points for the one-piece model y = a + b x + k x^2 / 2: sums of x^0..x^4 and
-// of x^0..x^2 y, from which its normal equations follow.
+// The moments of points for the one-piece model: sums of x^0..x^4 and of x^0..x^2 y
+// (one_piece_normal_equations).
 struct OnePieceMoments {
   double x[5] = {0.0, 0.0, 0.0, 0.0, 0.0}, xy[3] = {0.0, 0.0, 0.0};
 
@@ -217,8 +223,9 @@ struct OnePieceMoments {
   // (a, b, k) of the least-squares fit.
   Eigen::Vector3d solve() const {
     Eigen::Matrix3d ata;
-    ata << x[0], x[1], 0.5 * x[2], x[1], x[2], 0.5 * x[3], 0.5 * x[2], 0.5 * x[3], 0.25 * x[4];
-    return ata.ldlt().solve(Eigen::Vector3d(xy[0], xy[1], 0.5 * xy[2]));
+    Eigen::Vector3d aty;
+    one_piece_normal_equations(x, xy, &ata, &aty);
+    return ata.ldlt().solve(aty);
   }
 };
 
