@@ -79,18 +79,21 @@ double smallest_corner_spacing_px(const std::vector<cv::Point2f>& corners, cv::S
   return spacing;
 }
 
-// A chessboard: findChessboardCornersSB in accuracy mode (allowed to find a larger board, which
-// is then recorded in board_seen and not used), else the classic detector with cornerSubPix in a
-// window that stays within the smallest square seen (a fixed 11x11 window pulls the corners of
-// small squares towards the background).
+// A chessboard: findChessboardCornersSB in accuracy mode, allowed to find a larger board; where
+// it does, SB is asked again for exactly the board given (the larger mode also extends a board
+// by a row of its own frame's edge: OpenCV's right14.jpg reads 9x7 on a 9x6 board, which SB finds
+// when asked for 9x6; on a board really larger it finds nothing), and a board larger still is
+// recorded in board_seen and not used. Else the classic detector with cornerSubPix in a window
+// that stays within the smallest square seen (a fixed 11x11 window pulls the corners of small
+// squares towards the background).
 void find_chessboard(const cv::Mat& grey, const BoardSpec& board, CalibrationView* view) {
   const cv::Size pattern(board.cols, board.rows);
+  const int sb_flags = cv::CALIB_CB_ACCURACY | cv::CALIB_CB_NORMALIZE_IMAGE;
   std::vector<cv::Point2f> corners;
   cv::Mat meta;
-  if (cv::findChessboardCornersSB(
-          grey, pattern, corners,
-          cv::CALIB_CB_ACCURACY | cv::CALIB_CB_NORMALIZE_IMAGE | cv::CALIB_CB_LARGER, meta)) {
-    if (static_cast<int>(corners.size()) != board.cols * board.rows) {
+  if (cv::findChessboardCornersSB(grey, pattern, corners, sb_flags | cv::CALIB_CB_LARGER, meta)) {
+    if (static_cast<int>(corners.size()) != board.cols * board.rows &&
+        !cv::findChessboardCornersSB(grey, pattern, corners, sb_flags)) {
       view->board_seen = cv::Size(std::max(meta.cols, meta.rows), std::min(meta.cols, meta.rows));
       return;
     }
