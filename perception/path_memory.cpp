@@ -212,6 +212,8 @@ class Turn {
 void PathMemory::reset() {
   points_.clear();
   tape_width_m_ = 0.0;
+  disagreeing_frames_ = 0;
+  disagreeing_width_m_ = 0.0;
   correction_ = Pose2{};
   misalignment_cov_.setZero();
   last_odometry_.reset();
@@ -567,12 +569,43 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
   // and not within a tape width of another line in view.
   const DetectedLine& line = detection.lines[detection.followed];
   if (!(tape_width_m_ > 0.0)) tape_width_m_ = line.width_m;
+  std::vector<double> widths;
+  std::vector<Eigen::Vector2d> evidence = chord_centres(detection, &widths);
+  // A width taken from a first frame that saw only part of the tape would refuse every chord of
+  // the whole tape from then on (98 mm tape remembered as 81 mm: no evidence for metres): where
+  // the followed line keeps showing one other width and none of its chords is accepted, for
+  // relatch_frames frames in a row, that width is the tape's.
+  const bool disagrees =
+      evidence.size() < 3 &&
+      std::abs(line.width_m - tape_width_m_) > options_.chord_width_tolerance * tape_width_m_;
+  const bool same_as_before =
+      std::abs(line.width_m - disagreeing_width_m_) <=
+      options_.chord_width_tolerance * line.width_m;
+  disagreeing_frames_ = !disagrees ? 0 : same_as_before ? disagreeing_frames_ + 1 : 1;
+  if (disagrees) disagreeing_width_m_ = line.width_m;
+  if (disagreeing_frames_ >= options_.relatch_frames) {
+    tape_width_m_ = line.width_m;
+    disagreeing_frames_ = 0;
+    widths.clear();
+    evidence = chord_centres(detection, &widths);
+  }
+  // The tape's width follows what the accepted evidence shows (slowly: a worn stretch or a
+  // merged chord does not move it).
+  if (widths.size() >= 3) {
+    std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
+    tape_width_m_ += 0.2 * (widths[widths.size() / 2] - tape_width_m_);
+  }
+  return evidence;
+}
+
+std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& detection,
+                                                       std::vector<double>* widths) const {
+  const DetectedLine& line = detection.lines[detection.followed];
   const std::vector<int>& chords = static_cast<int>(line.clean_chords.size()) >= options_.min_points
                                        ? line.clean_chords
                                        : line.chords;
   const CurveModel::Prepared model = line.model.prepared();
   std::vector<Eigen::Vector2d> evidence;
-  std::vector<double> widths;
   for (int index : chords) {
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d middle = chord.centre();
@@ -597,13 +630,7 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
     }
     if (near_other) continue;
     evidence.push_back(centre);
-    widths.push_back(width_m);
-  }
-  // The tape's width follows what the accepted evidence shows (slowly: a worn stretch or a
-  // merged chord does not move it).
-  if (widths.size() >= 3) {
-    std::nth_element(widths.begin(), widths.begin() + widths.size() / 2, widths.end());
-    tape_width_m_ += 0.2 * (widths[widths.size() / 2] - tape_width_m_);
+    widths->push_back(width_m);
   }
   return evidence;
 }

@@ -28,6 +28,8 @@ struct PathMemoryOptions {
   int min_points = 12;
   int side_points = 5;                  // points that must lie beyond min_cover_m on each side
   double chord_width_tolerance = 0.06;  // evidence: chords this near the tape's median width
+  int relatch_frames = 20;  // ... or the line's width, where it shows one other, no chord taken,
+                            //     this many frames in a row
   double gate_m = 0.003;           // remembered points this near the tape in view are the same tape
   double neighbourhood_m = 0.008;  // the tape's local direction from its evidence this near
   int min_overlap_points = 20;     // registration needs this many of them
@@ -123,6 +125,10 @@ class PathMemory {
     double seen_at_m = 0.0;  // the odometer then
   };
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
+  // The centres of the followed line's chords within chord_width_tolerance of tape_width_m_ and
+  // not near another line (their widths in *widths).
+  std::vector<Eigen::Vector2d> chord_centres(const LineDetection& detection,
+                                             std::vector<double>* widths) const;
   // For each point (vehicle frame): whether it lies on a line in view other than the followed
   // one, and not on that, nor nearer the vehicle than their junction: tape remembered there is
   // the way not taken at a fork (forgotten); the way the vehicle came is kept.
@@ -178,6 +184,8 @@ class PathMemory {
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
   double tape_width_m_ = 0.0;                 // the width of the evidence remembered (0: none yet)
+  int disagreeing_frames_ = 0;       // frames in a row whose line shows another width, no evidence
+  double disagreeing_width_m_ = 0.0;  // ... the width they show
   std::optional<double> tape_heading_rad_;    // the tape's direction at the origin, memory frame
   bool turns_out_of_view_ = false;            // the tape last seen turned out of the view
   double odometer_m_ = 0.0;                   // distance driven since the start

@@ -278,6 +278,42 @@ TEST(PathMemory, WithoutOdometryEveryFrameIsExtrapolated) {
   }
 }
 
+// The first frame sees only part of the tape's width (the tape cut by the image's edge: 22 of
+// its 30 mm), every later frame all of it. The memory takes its tape width from the first frame
+// and refused every later chord as too wide (6 % tolerance) for as long as it lived: once the
+// vehicle had passed the first frame's tape, every frame was carried back from the view. Now the
+// width the line keeps showing is taken after relatch_frames frames without evidence, and the
+// last 40 frames come from the remembered tape (exact evidence and odometry: within 0.1 mm).
+TEST(PathMemory, ATapeWidthFirstSeenTooNarrowIsCorrected) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory;
+  int from_memory_at_end = 0;
+  for (int k = 0; k < 100; ++k) {
+    const double s = 0.01 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineDetection seen = seen_from(path, vehicle, s);
+    if (k == 0) {
+      constexpr double kPartWidthM = 0.022;
+      for (Chord& chord : seen.chords) {
+        const Eigen::Vector2d middle = chord.centre(), half = 0.5 * (chord.a - chord.b);
+        chord.a = middle + half * (kPartWidthM / kTapeWidthM);
+        chord.b = middle - half * (kPartWidthM / kTapeWidthM);
+      }
+      seen.lines[0].width_m = kPartWidthM;
+    }
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = 0.002;  // carried back from the view: 2 mm off
+    const LineMeasurement m = memory.update(in_view, seen, vehicle);
+    if (k < 60) continue;
+    EXPECT_FALSE(m.extrapolated) << k;
+    if (m.extrapolated) continue;
+    ++from_memory_at_end;
+    EXPECT_NEAR(m.e_d_m, 0.0, 1e-4) << k;
+  }
+  EXPECT_EQ(from_memory_at_end, 40);
+}
+
 // The camera, ahead of the vehicle, passes a corner (line, then 90 deg of R 0.3 m) and sees no
 // more tape, while the tape it saw still lies under the vehicle: the errors come from the
 // remembered tape alone, flagged, as exactly as with the tape in view (exact odometry: within
