@@ -344,6 +344,17 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     if (std::abs(fit->slope) < 0.02 || pass == 2) break;
     frame_rad += std::atan(fit->slope);
   }
+  // The tape under the vehicle turns by its curvature times the distance driven: a fit that
+  // turns it much further from the direction last measured under the vehicle (points of a
+  // fork's two legs, or of a tape crossing, in the window: the direction read 180 deg off) is
+  // no measurement.
+  if (last_course_) {
+    const double heading_rad = vehicle_.yaw_rad + frame_rad + std::atan(fit->slope);
+    const double driven_m = odometer_m_ - last_course_->odometer_m;
+    if (std::abs(wrap_angle_rad(heading_rad - last_course_->heading_rad)) >
+        options_.max_turn_rad + options_.max_curvature_1_m * driven_m)
+      return std::nullopt;
+  }
   return with_model(in_view,
                     curve_in_frame(frame_rad, fit->offset_m, fit->slope, fit->curvature_1_m));
 }

@@ -25,6 +25,10 @@ struct PathMemoryOptions {
   double window_m = 0.05;        // the tape this far either side of the origin gives the errors
   double min_cover_m = 0.025;    // ... and must reach at least this far on both sides
   double window_across_m = 0.1;  // ... and lie no further than this across it
+  // ... and turn the tape's direction there from the one last measured by no more than this
+  // plus max_curvature_1_m times the distance driven since (R 0.1 m)
+  double max_turn_rad = 0.2;
+  double max_curvature_1_m = 10.0;
   int min_points = 12;
   int side_points = 5;                  // points that must lie beyond min_cover_m on each side
   double chord_width_tolerance = 0.06;  // evidence: chords this near the tape's median width

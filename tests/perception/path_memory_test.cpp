@@ -314,6 +314,50 @@ TEST(PathMemory, ATapeWidthFirstSeenTooNarrowIsCorrected) {
   EXPECT_EQ(from_memory_at_end, 40);
 }
 
+// The vehicle drives straight along a tape while, from 0.3 m on, the line in view is another tape
+// crossing it at 45 deg at x = 0.6 m (a crossing followed by mistake). Near the crossing the
+// remembered points of the two tapes mix under the vehicle. No tape turns more than
+// PathMemoryOptions' max_turn_rad plus R 0.1 m's curvature times the distance driven since the
+// direction was last measured (the tightest corner a guide path has): a fit at the origin that
+// does is no measurement. Without that limit the fit read the tape turned by 89 deg between two
+// frames 10 mm apart (measured). With it the direction still drifts towards the crossing tape a
+// limit's worth at a time (to 56 deg off over 18 frames): the limit stops flips, not a crossing
+// followed for 0.2 m.
+TEST(PathMemory, AFitTurningTheTapeFurtherThanATapeTurnsIsRefused) {
+  const control::Path tape = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  const double diagonal_rad = deg_to_rad(45.0);
+  const control::Path crossing =
+      control::Path::starting_at({0.6 - 0.3 * std::cos(diagonal_rad),
+                                  -0.3 * std::sin(diagonal_rad), diagonal_rad})
+          .add_line(0.6);
+  const PathMemoryOptions options;
+  PathMemory memory(options);
+  std::optional<double> last_heading_rad, last_at_m;
+  double worst_excess_rad = -1.0;
+  for (int k = 0; k < 90; ++k) {
+    const double s = 0.01 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    // From 0.3 m on the view holds the crossing tape's stretch 0.15-0.41 m along it.
+    const LineDetection seen =
+        k < 30 ? seen_from(tape, vehicle, s) : seen_from(crossing, vehicle, -0.02);
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    const LineMeasurement m = memory.update(in_view, seen, vehicle);
+    if (m.extrapolated) continue;
+    const double heading_rad = -m.e_theta_rad;  // the vehicle drives along x
+    if (last_heading_rad) {
+      const double allowed_rad =
+          options.max_turn_rad + options.max_curvature_1_m * (s - *last_at_m);
+      worst_excess_rad = std::max(
+          worst_excess_rad, std::abs(wrap_angle_rad(heading_rad - *last_heading_rad)) - allowed_rad);
+    }
+    last_heading_rad = heading_rad;
+    last_at_m = s;
+  }
+  EXPECT_LE(worst_excess_rad, 1e-9);
+  EXPECT_GE(worst_excess_rad, -1.0);  // at least two frames from the memory were compared
+}
+
 // The camera, ahead of the vehicle, passes a corner (line, then 90 deg of R 0.3 m) and sees no
 // more tape, while the tape it saw still lies under the vehicle: the errors come from the
 // remembered tape alone, flagged, as exactly as with the tape in view (exact odometry: within
