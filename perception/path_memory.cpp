@@ -586,12 +586,10 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
   // the whole tape from then on (98 mm tape remembered as 81 mm: no evidence for metres): where
   // the followed line keeps showing one other width and none of its chords is accepted, for
   // relatch_frames frames in a row, that width is the tape's.
-  const bool disagrees =
-      evidence.size() < 3 &&
-      std::abs(line.width_m - tape_width_m_) > options_.chord_width_tolerance * tape_width_m_;
-  const bool same_as_before =
-      std::abs(line.width_m - disagreeing_width_m_) <=
-      options_.chord_width_tolerance * line.width_m;
+  const bool disagrees = evidence.size() < 3 && std::abs(line.width_m - tape_width_m_) >
+                                                    options_.chord_width_tolerance * tape_width_m_;
+  const bool same_as_before = std::abs(line.width_m - disagreeing_width_m_) <=
+                              options_.chord_width_tolerance * line.width_m;
   disagreeing_frames_ = !disagrees ? 0 : same_as_before ? disagreeing_frames_ + 1 : 1;
   if (disagrees) disagreeing_width_m_ = line.width_m;
   if (disagreeing_frames_ >= options_.relatch_frames) {

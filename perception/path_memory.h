@@ -188,7 +188,7 @@ class PathMemory {
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
   double tape_width_m_ = 0.0;                 // the width of the evidence remembered (0: none yet)
-  int disagreeing_frames_ = 0;       // frames in a row whose line shows another width, no evidence
+  int disagreeing_frames_ = 0;        // frames in a row whose line shows another width, no evidence
   double disagreeing_width_m_ = 0.0;  // ... the width they show
   std::optional<double> tape_heading_rad_;    // the tape's direction at the origin, memory frame
   bool turns_out_of_view_ = false;            // the tape last seen turned out of the view

@@ -327,8 +327,8 @@ TEST(PathMemory, AFitTurningTheTapeFurtherThanATapeTurnsIsRefused) {
   const control::Path tape = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
   const double diagonal_rad = deg_to_rad(45.0);
   const control::Path crossing =
-      control::Path::starting_at({0.6 - 0.3 * std::cos(diagonal_rad),
-                                  -0.3 * std::sin(diagonal_rad), diagonal_rad})
+      control::Path::starting_at(
+          {0.6 - 0.3 * std::cos(diagonal_rad), -0.3 * std::sin(diagonal_rad), diagonal_rad})
           .add_line(0.6);
   const PathMemoryOptions options;
   PathMemory memory(options);
@@ -348,8 +348,9 @@ TEST(PathMemory, AFitTurningTheTapeFurtherThanATapeTurnsIsRefused) {
     if (last_heading_rad) {
       const double allowed_rad =
           options.max_turn_rad + options.max_curvature_1_m * (s - *last_at_m);
-      worst_excess_rad = std::max(
-          worst_excess_rad, std::abs(wrap_angle_rad(heading_rad - *last_heading_rad)) - allowed_rad);
+      worst_excess_rad =
+          std::max(worst_excess_rad,
+                   std::abs(wrap_angle_rad(heading_rad - *last_heading_rad)) - allowed_rad);
     }
     last_heading_rad = heading_rad;
     last_at_m = s;
