@@ -473,6 +473,16 @@ cv::Mat classic_opencv_camera_matrix(const std::string& images, cv::Size inner_c
   return k;
 }
 
+// `agv calibrate intrinsics --json`'s fx and fy within the issue's 1 % of that reference on the
+// same images; the reference's camera matrix.
+cv::Mat expect_focal_lengths_as_classic_opencv(const nlohmann::json& printed,
+                                               const std::string& images, cv::Size inner_corners) {
+  const cv::Mat k = classic_opencv_camera_matrix(images, inner_corners);
+  EXPECT_NEAR(printed["fx_px"].get<double>() / k.at<double>(0, 0), 1.0, 0.01) << images;
+  EXPECT_NEAR(printed["fy_px"].get<double>() / k.at<double>(1, 1), 1.0, 0.01) << images;
+  return k;
+}
+
 // Intrinsics from OpenCV's own chessboard sample (9x6 inner corners, 25 mm): issue 5's bar of
 // 0.5 px RMS reprojection error; square pixels (fx = fy within 1 %) and the principal point
 // within 10 % of the image centre, as a sane lens and sensor give.
@@ -490,10 +500,7 @@ TEST_F(AgvCli, CalibratesIntrinsicsFromTheOpenCvChessboardSample) {
   EXPECT_TRUE(fs::exists(dir_ / "cam" / "camera.yaml"));
   EXPECT_TRUE(fs::exists(dir_ / "cam" / "camera_coverage.png"));
   EXPECT_EQ(j["output"].get<std::string>(), path("cam/camera.yaml"));
-  // Against OpenCV's classic pipeline on the same images: 1 %, the issue's bar.
-  const cv::Mat k = classic_opencv_camera_matrix(images, cv::Size(9, 6));
-  EXPECT_NEAR(j["fx_px"].get<double>() / k.at<double>(0, 0), 1.0, 0.01);
-  EXPECT_NEAR(j["fy_px"].get<double>() / k.at<double>(1, 1), 1.0, 0.01);
+  expect_focal_lengths_as_classic_opencv(j, images, cv::Size(9, 6));
   // Run again onto the same file: refused before any work, the file kept.
   const auto written = fs::last_write_time(dir_ / "cam" / "camera.yaml");
   const Result again = run("calibrate intrinsics --images " + images +
@@ -603,9 +610,7 @@ TEST_F(AgvCli, CalibratesOpenCvsRightCameraFromEveryView) {
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
   EXPECT_EQ(j["views_used"].get<int>(), 13);
   EXPECT_LE(j["rms_px"].get<double>(), 0.5);
-  const cv::Mat k = classic_opencv_camera_matrix(images, cv::Size(9, 6));
-  EXPECT_NEAR(j["fx_px"].get<double>() / k.at<double>(0, 0), 1.0, 0.01);
-  EXPECT_NEAR(j["fy_px"].get<double>() / k.at<double>(1, 1), 1.0, 0.01);
+  expect_focal_lengths_as_classic_opencv(j, images, cv::Size(9, 6));
 }
 
 // A real wide-angle camera (datasets/cameras/pjlab_wide_angle, Apache-2.0: 1920x1200, about 84 deg
@@ -622,9 +627,7 @@ TEST_F(AgvCli, CalibratesAWideAngleCamera) {
   const nlohmann::json j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
   EXPECT_EQ(j["views_used"].get<int>(), 12);
   EXPECT_LE(j["rms_px"].get<double>(), 0.5);
-  const cv::Mat k = classic_opencv_camera_matrix(images, cv::Size(15, 17));
-  EXPECT_NEAR(j["fx_px"].get<double>() / k.at<double>(0, 0), 1.0, 0.01);
-  EXPECT_NEAR(j["fy_px"].get<double>() / k.at<double>(1, 1), 1.0, 0.01);
+  const cv::Mat k = expect_focal_lengths_as_classic_opencv(j, images, cv::Size(15, 17));
   EXPECT_NEAR(j["cx_px"].get<double>(), k.at<double>(0, 2), 2.0);
   EXPECT_NEAR(j["cy_px"].get<double>(), k.at<double>(1, 2), 2.0);
   cv::FileStorage written(path("wide.yaml"), cv::FileStorage::READ);
