@@ -289,6 +289,112 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
 
 namespace {
 
+// The tape's one edge on a whole-line profile, walking inwards (+1: towards higher indices, -1:
+// lower) from `start`, a sample on the tape near the end it runs out at, while the tape lasts;
+// takes the tape's and the floor's levels (medians of `side` samples a little inside and beyond the
+// first sample below half-way) and places the edge where the profile crosses half-way between
+// them, refined twice with both levels taken symmetrically right next to it (as
+// find_profile_edges does). Nullopt where the tape reaches the other end, where fewer than
+// 2 * side samples of tape or floor lie in the image, or where the contrast is below
+// min_contrast.
+std::optional<float> edge_from_border(const std::vector<float>& profile, int start, int inward,
+                                      int side, int max_dip, float min_contrast, float* contrast,
+                                      std::vector<float>* scratch) {
+  const int n = static_cast<int>(profile.size());
+  auto inside = [&](int i) { return i >= 0 && i < n; };
+  const int k = walk_to_edge(profile, start, inward, 0.5f, max_dip);
+  if (profile[k] >= 0.5f) return std::nullopt;  // tape up to the other end
+  const int floor_from = k + 2 * inward, floor_to = k + (1 + 2 * side) * inward;
+  const int tape_from = k - 2 * inward, tape_to = k - (1 + 2 * side) * inward;
+  if (!inside(floor_to) || !inside(tape_to) || (tape_to - start) * inward < 0) return std::nullopt;
+  auto median_between = [&](int a, int b) {
+    const int lo = std::min(a, b), hi = std::max(a, b);
+    return median_of(profile.data() + lo, profile.data() + hi + 1, scratch);
+  };
+  const float floor_level = median_between(floor_from, floor_from + (side - 1) * inward);
+  const float tape_level = median_between(tape_from, tape_from - (side - 1) * inward);
+  *contrast = tape_level - floor_level;
+  if (*contrast < min_contrast) return std::nullopt;
+  // The sub-pixel place in [m, m + 1] where the profile crosses `level`, for the m nearest
+  // `near` (within 2 samples) at which it does so from tape to floor going inwards.
+  auto crossing_near = [&](float near, float level) -> std::optional<float> {
+    std::optional<float> best;
+    const int centre = static_cast<int>(std::floor(near));
+    for (int m = centre - 2; m <= centre + 2; ++m) {
+      if (m < 0 || m + 1 >= n) continue;
+      const float tape_side = inward > 0 ? profile[m] : profile[m + 1];
+      const float floor_side = inward > 0 ? profile[m + 1] : profile[m];
+      if (!(tape_side >= level && floor_side < level)) continue;
+      const float at = m + (level - profile[m]) / (profile[m + 1] - profile[m]);
+      if (!best || std::abs(at - near) < std::abs(*best - near)) best = at;
+    }
+    return best;
+  };
+  std::optional<float> edge = crossing_near(k - 0.5f * inward, 0.5f * (floor_level + tape_level));
+  if (!edge) return std::nullopt;
+  auto at = [&](float x) {  // the profile between samples
+    const int m = std::clamp(static_cast<int>(std::floor(x)), 0, n - 2);
+    return profile[m] + (x - m) * (profile[m + 1] - profile[m]);
+  };
+  constexpr int kNear = 4;
+  constexpr float kGap = 1.5f;
+  for (int round = 0; round < 2; ++round) {
+    float sum = 0.0f;
+    for (int j = 0; j < kNear; ++j) sum += at(*edge + (kGap + j)) + at(*edge - (kGap + j));
+    const std::optional<float> refined = crossing_near(*edge, sum / (2 * kNear));
+    if (!refined) break;
+    edge = refined;
+  }
+  return edge;
+}
+
+}  // namespace
+
+std::vector<EdgePair> scan_border_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                        bool along_rows, int step, float min_contrast,
+                                        const EdgeScanOptions& options) {
+  std::vector<EdgePair> edges;
+  const int n = along_rows ? frame.cols : frame.rows;
+  const int line_count = along_rows ? frame.rows : frame.cols;
+  const int side = std::max(3, options.margin_px / 2);
+  step = std::max(1, step);
+  std::vector<float> raw, profile, scratch;
+  // Where the tape meets an end: its outermost `side` samples, or the `side` after a strip of
+  // floor too narrow to measure the tape's edge against (under 2 * side samples: the tape's far
+  // edge just inside the image), lie on the tape; the sample on the tape the walk starts from.
+  auto tape_at_end = [&](int inward) -> std::optional<int> {
+    for (int offset : {0, 2 * side}) {
+      const int lo = inward > 0 ? offset : n - offset - side;
+      if (median_of(profile.data() + lo, profile.data() + lo + side, &scratch) < 0.5f) continue;
+      return static_cast<int>(std::max_element(profile.begin() + lo, profile.begin() + lo + side) -
+                              profile.begin());
+    }
+    return std::nullopt;
+  };
+  for (int line = step / 2; line < line_count; line += step) {
+    contrast_profile(frame, axis, along_rows, line, 0, n, &raw, &profile);
+    const std::optional<int> first_start = tape_at_end(1), second_start = tape_at_end(-1);
+    if (first_start.has_value() == second_start.has_value()) continue;
+    const bool first_on_tape = first_start.has_value();
+    float contrast = 0.0f;
+    const std::optional<float> edge = edge_from_border(
+        profile, first_on_tape ? *first_start : *second_start, first_on_tape ? 1 : -1, side,
+        options.max_dip_px, min_contrast, &contrast, &scratch);
+    if (!edge) continue;
+    ProfileEdges found;
+    found.contrast = contrast;
+    found.first = first_on_tape ? 0.0f : *edge;
+    found.second = first_on_tape ? *edge : static_cast<float>(n - 1);
+    EdgePair pair = edge_pair(found, 0, line, along_rows);
+    pair.first_at_border = first_on_tape;
+    pair.second_at_border = !first_on_tape;
+    edges.push_back(pair);
+  }
+  return edges;
+}
+
+namespace {
+
 // Buffers reused from one scan line to the next.
 struct ScanBuffers {
   std::vector<float> raw, profile, scratch;

@@ -18,6 +18,9 @@ struct EdgePair {
   cv::Point2f second_px;
   float contrast = 0.0f;  // tape level minus floor level on this scan line
   bool along_rows = true;
+  // The tape runs beyond the image border on this scan line (scan_border_edges): that "edge" is
+  // the border pixel, not the tape's edge.
+  bool first_at_border = false, second_at_border = false;
 };
 
 struct EdgeScanOptions {
@@ -77,5 +80,20 @@ std::vector<EdgePair> scan_predicted_edges(const cv::Mat& frame, const ContrastA
                                            const PredictedBand& band,
                                            const EdgeScanOptions& options,
                                            PredictedScanStats* stats = nullptr);
+
+// Scan lines (every step-th image row when along_rows, else column) on which the tape runs out
+// of the image at one end (or leaves too little floor there to measure its edge against: under
+// 2 * side samples, side = max(3, margin_px / 2)): from that border the contrast stays on the
+// tape (above half-way, about 0.5 on the axis; dips up to max_dip_px crossed) until one edge,
+// beyond which at least
+// 2 * side floor samples lie in the image. That edge is placed where the profile crosses
+// half-way between the tape's and the floor's levels right next to it (as scan_tape_edges
+// places an edge); the pair's other end is the border pixel, flagged. A line whose both ends lie
+// on tape, or whose tape beside the edge stands out from the floor by less than min_contrast,
+// gives no pair. Unlike scan_tape_edges, nothing says the tape is whole: one edge is all a tape
+// wider than the part of the view it leaves shows.
+std::vector<EdgePair> scan_border_edges(const cv::Mat& frame, const ContrastAxis& axis,
+                                        bool along_rows, int step, float min_contrast,
+                                        const EdgeScanOptions& options);
 
 }  // namespace agv::perception

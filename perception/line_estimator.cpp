@@ -8,6 +8,7 @@
 
 #include "perception/contrast_axis.h"
 #include "perception/joined_arcs_fit.h"
+#include "perception/one_edge_line.h"
 #include "perception/tape_regions.h"
 
 namespace agv::perception {
@@ -227,13 +228,71 @@ LineMeasurement LineEstimator::estimate(const cv::Mat& frame, double stamp_s,
                                         LineDetection* details,
                                         const FollowHistory* history) const {
   const LineMeasurement m = estimate_with_widths(frame, stamp_s, details, history);
-  if (m.line_found || !any_width_) return m;
-  LineDetection any;
-  const LineMeasurement found =
-      any_width_->estimate(frame, stamp_s, details ? &any : nullptr, history);
-  if (!found.line_found) return m;  // the reason the configured width gave
-  if (details) *details = std::move(any);
-  return found;
+  if (m.line_found) return m;
+  if (any_width_) {
+    LineDetection any;
+    const LineMeasurement found =
+        any_width_->estimate_with_widths(frame, stamp_s, details ? &any : nullptr, history);
+    if (found.line_found) {
+      if (details) *details = std::move(any);
+      return found;
+    }
+  }
+  if (history && frame_problem(frame).empty()) {
+    if (auto found = from_one_edge(frame, stamp_s, details, *history)) return *found;
+  }
+  return m;  // the reason the (configured) width gave
+}
+
+std::optional<LineMeasurement> LineEstimator::from_one_edge(const cv::Mat& frame, double stamp_s,
+                                                            LineDetection* details,
+                                                            const FollowHistory& history) const {
+  // Only the tape just followed, of a settled width, on the axis it was found on.
+  constexpr int kMaxFramesLost = 5;
+  const std::optional<double> width_m = history.width.last_settled_width_m();
+  if (!width_m || !history.followed || !history.axis ||
+      history.frames_without_line > kMaxFramesLost)
+    return std::nullopt;
+  const int step = std::max(1, options_.track_step / 2);
+  // The axis maps the floor to about 0 and the tape to about 1.
+  constexpr float kMinContrast = 0.4f;
+  LineDetection d;
+  std::vector<Chord> border_chords;
+  for (bool along_rows : {true, false}) {
+    for (const EdgePair& pair :
+         scan_border_edges(frame, *history.axis, along_rows, step, kMinContrast, options_.scan)) {
+      const auto seen = pair.first_at_border ? pair.second_px : pair.first_px;
+      const auto border = pair.first_at_border ? pair.first_px : pair.second_px;
+      const auto a = floor_map_->at(seen.x, seen.y);
+      const auto b = floor_map_->at(border.x, border.y);
+      if (!a || !b) continue;
+      d.edges.push_back(pair);
+      border_chords.push_back({*a, *b});
+    }
+  }
+  OneEdgeOptions one;
+  one.scan_spacing_m = floor_map_->typical_footprint_m() * step;
+  one.full_span_m = options_.lines.full_span_m;
+  const CurveModel& followed = *history.followed;
+  std::optional<DetectedLine> line =
+      line_from_one_edge(border_chords, *width_m, followed.tangent(), one, &d.chords, nullptr);
+  if (!line) return std::nullopt;
+  // Near the line followed: within half a width of it where the edge is seen, and turned from it
+  // by no more than the vehicle turns in a few frames.
+  constexpr double kMaxTurn_rad = 0.3;
+  const double s_mid = 0.5 * (line->s_min_m + line->s_max_m);
+  const Eigen::Vector2d mid = line->model.point_at(s_mid);
+  const Eigen::Vector2d t_new = line->model.tangent_at(s_mid);
+  const Eigen::Vector2d t_old = followed.tangent_at(followed.arc_position(mid));
+  if (std::abs(followed.signed_distance(mid)) > 0.5 * *width_m ||
+      std::abs(t_new.dot(t_old)) < std::cos(kMaxTurn_rad))
+    return std::nullopt;
+  d.lines.push_back(std::move(*line));
+  d.axis = *history.axis;
+  d.one_edge = true;
+  LineMeasurement m = measurement_of(d, frame, stamp_s, &history);
+  if (details) *details = std::move(d);
+  return m;
 }
 
 LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double stamp_s,

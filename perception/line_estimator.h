@@ -33,6 +33,7 @@ struct LineDetection {
   std::optional<double> branch_heading_rad;  // the branch chosen, where there was a choice
   std::string rejected_because;              // why no line, when none
   bool tracked = false;      // found from the frame before's line (LineEstimator::track)
+  bool one_edge = false;     // from the tape's one edge in view and its known width
   ContrastAxis axis;         // the colour axis the tape was found on
   float floor_noise = 0.0f;  // robust noise of the floor's contrast on that axis
 };
@@ -76,7 +77,10 @@ class LineEstimator {
   // frame gives line_found = false with the reason in `details`). A configured tape width is a
   // hint: where it finds no line, the frame is searched again for tape of any width (its
   // measured width is in the measurement; the caller can tell the user). `history` (optional):
-  // what the frames before followed, kept to through junctions (choose_line).
+  // what the frames before followed, kept to through junctions (choose_line). Where no line is
+  // found, the history settled a width and followed a line in the last few frames, a tape of
+  // that width running out of the image with one edge in view near where it was followed is the
+  // line (one_edge_line.h; detection.one_edge).
   LineMeasurement estimate(const cv::Mat& frame, double stamp_s, LineDetection* details = nullptr,
                            const FollowHistory* history = nullptr) const;
 
@@ -102,6 +106,10 @@ class LineEstimator {
   // From the lines found (d.lines not empty): junction, branch choice and the measurement.
   LineMeasurement measurement_of(LineDetection& d, const cv::Mat& frame, double stamp_s,
                                  const FollowHistory* history) const;
+  // The line from the tape's one edge in view (estimate's last resort), or nullopt.
+  std::optional<LineMeasurement> from_one_edge(const cv::Mat& frame, double stamp_s,
+                                               LineDetection* details,
+                                               const FollowHistory& history) const;
   // estimate() with the widths of this estimator only.
   LineMeasurement estimate_with_widths(const cv::Mat& frame, double stamp_s, LineDetection* details,
                                        const FollowHistory* history) const;

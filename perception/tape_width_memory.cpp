@@ -10,12 +10,16 @@ namespace agv::perception {
 
 void TapeWidthMemory::update(std::optional<double> width_m) {
   if (!width_m || !(*width_m > 0.0)) {
-    if (++frames_without_line_ >= kForgetAfterFrames) widths_m_.clear();
+    if (++frames_without_line_ >= kForgetAfterFrames) {
+      widths_m_.clear();
+      last_settled_m_.reset();
+    }
     return;
   }
   frames_without_line_ = 0;
   widths_m_.push_back(*width_m);
   if (static_cast<int>(widths_m_.size()) > kKeptFrames) widths_m_.pop_front();
+  if (const std::optional<double> settled_m = settled_width_m()) last_settled_m_ = settled_m;
 }
 
 std::optional<double> TapeWidthMemory::settled_width_m() const {

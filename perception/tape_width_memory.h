@@ -27,12 +27,16 @@ class TapeWidthMemory {
   void update(std::optional<double> width_m);
   // The median width of the lines kept, once settled.
   std::optional<double> settled_width_m() const;
+  // The width as it last settled (kept while lines of other widths come and go: a corner's
+  // overlap, a fork's two legs), forgotten with the rest.
+  std::optional<double> last_settled_width_m() const { return last_settled_m_; }
   // Whether a line of width_m is unlike the settled width (false until it settles).
   bool unlike(double width_m) const;
 
  private:
   std::deque<double> widths_m_;  // the last kKeptFrames lines' widths, oldest first
   int frames_without_line_ = 0;
+  std::optional<double> last_settled_m_;
 };
 
 }  // namespace agv::perception

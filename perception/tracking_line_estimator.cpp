@@ -22,7 +22,8 @@ LineMeasurement TrackingLineEstimator::measure(const cv::Mat& frame, double stam
   // Not through a junction: while a branch is held, the whole frame is searched (the branch
   // may show as a line of its own only frames after the tape it leaves).
   const bool trackable = options.tracking && previous_ && previous_->lines.size() == 1 &&
-                         !previous_->junction && !history_.branch_heading_rad &&
+                         !previous_->one_edge && !previous_->junction &&
+                         !history_.branch_heading_rad &&
                          frames_since_search_ + 1 < std::max(1, options.search_every_frames);
   bool done = false;
   if (trackable) {

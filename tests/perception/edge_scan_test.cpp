@@ -95,5 +95,58 @@ TEST(EdgeScan, WindowEndingOnTheTapeIsWidened) {
   expect_edges_at_half_way(frame, coarse, 0.01);
 }
 
+// A tape running out of the image on the left: tape from the border to a ramp 4 pixels wide
+// (x 296-300), floor beyond; the half-way level lies at x = 298 exactly.
+cv::Mat tape_from_left_border_frame() {
+  cv::Mat frame(kHeight, kWidth, CV_8UC1);
+  for (int x = 0; x < kWidth; ++x) {
+    double v = kFloor;
+    if (x <= 296) v = kTape;
+    if (x > 296 && x < 300) v = kTape - (kTape - kFloor) * (x - 296) / 4.0;
+    frame.col(x).setTo(cv::Scalar(std::round(v)));
+  }
+  return frame;
+}
+
+// The one edge of a tape that runs out of the image, on every 8th row, at the ramp's half-way
+// point (tolerance 0.01 px, as for two edges), the other end of the pair the border pixel,
+// flagged; mirrored, the same on the other side; the same where a strip of floor too narrow to
+// measure against lies between the tape and the border. The border scan says nothing where the tape
+// lies wholly inside the image (two edges: scan_tape_edges' work) or covers a whole row.
+TEST(EdgeScan, OneEdgeOfATapeRunningOutOfTheImage) {
+  const cv::Mat left = tape_from_left_border_frame();
+  const std::vector<EdgePair> pairs = scan_border_edges(left, grey_axis(), true, 8, 0.3f, {});
+  ASSERT_EQ(pairs.size(), static_cast<size_t>(kHeight / 8));
+  for (const EdgePair& pair : pairs) {
+    EXPECT_TRUE(pair.first_at_border);
+    EXPECT_FALSE(pair.second_at_border);
+    EXPECT_EQ(pair.first_px.x, 0.0f);
+    EXPECT_NEAR(pair.second_px.x, 298.0, 0.01);
+    EXPECT_NEAR(pair.contrast, 1.0, 0.05);
+  }
+  cv::Mat right;
+  cv::flip(left, right, 1);
+  const std::vector<EdgePair> mirrored = scan_border_edges(right, grey_axis(), true, 8, 0.3f, {});
+  ASSERT_EQ(mirrored.size(), static_cast<size_t>(kHeight / 8));
+  for (const EdgePair& pair : mirrored) {
+    EXPECT_TRUE(pair.second_at_border);
+    EXPECT_EQ(pair.second_px.x, kWidth - 1.0f);
+    EXPECT_NEAR(pair.first_px.x, kWidth - 1 - 298.0, 0.01);
+  }
+  EXPECT_TRUE(scan_border_edges(tape_frame(kFloor, 0), grey_axis(), true, 8, 0.3f, {}).empty());
+  const cv::Mat covered(kHeight, kWidth, CV_8UC1, cv::Scalar(kTape));
+  EXPECT_TRUE(scan_border_edges(covered, grey_axis(), true, 8, 0.3f, {}).empty());
+  // The tape's far edge just inside the image (a strip of floor 3 pixels wide at the border,
+  // too narrow to measure that edge against): the near edge is found all the same.
+  cv::Mat strip = left.clone();
+  strip.colRange(0, 3).setTo(cv::Scalar(kFloor));
+  const std::vector<EdgePair> beside_strip =
+      scan_border_edges(strip, grey_axis(), true, 8, 0.3f, {});
+  ASSERT_EQ(beside_strip.size(), static_cast<size_t>(kHeight / 8));
+  EXPECT_NEAR(beside_strip.front().second_px.x, 298.0, 0.01);
+  // Too little contrast for the minimum asked.
+  EXPECT_TRUE(scan_border_edges(left, grey_axis(), true, 8, 1.5f, {}).empty());
+}
+
 }  // namespace
 }  // namespace agv::perception

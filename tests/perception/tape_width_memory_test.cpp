@@ -59,5 +59,19 @@ TEST(TapeWidthMemory, ForgottenAfterALongStretchWithoutLine) {
   EXPECT_FALSE(memory.unlike(0.020));
 }
 
+// Lines of other widths for a while (a corner's overlap reads the tape 1.6 times as wide) unsettle
+// the width but not the one it last settled at, which is forgotten with the rest.
+TEST(TapeWidthMemory, TheWidthLastSettledOutlastsAFewOtherWidths) {
+  TapeWidthMemory memory;
+  EXPECT_FALSE(memory.last_settled_width_m().has_value());
+  for (int i = 0; i < 5; ++i) memory.update(0.050);
+  for (int i = 0; i < 4; ++i) memory.update(0.080);
+  EXPECT_FALSE(memory.settled_width_m().has_value());
+  ASSERT_TRUE(memory.last_settled_width_m().has_value());
+  EXPECT_DOUBLE_EQ(*memory.last_settled_width_m(), 0.050);
+  for (int i = 0; i < TapeWidthMemory::kForgetAfterFrames; ++i) memory.update(std::nullopt);
+  EXPECT_FALSE(memory.last_settled_width_m().has_value());
+}
+
 }  // namespace
 }  // namespace agv::perception
