@@ -312,15 +312,15 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
     cv::resize(small, small, cv::Size(small.cols / 2, small.rows / 2), 0, 0, cv::INTER_AREA);
   }
   // Where the axis this frame suggests points another way in colour than the one the tape
-  // followed was last found on (on a blotchy floor, the blotches' polarity can win), the
-  // remembered axis is searched first.
+  // followed was last found on, the remembered axis alone is searched: on a blotchy floor the
+  // blotches' polarity can win, and between the two legs of a fork of dark tape the floor is a
+  // light strip of about a tape's width. A tape of another colour is taken up once the axis is
+  // forgotten (FollowHistory::kForgetAxisAfterFrames frames without a line).
   const std::optional<ContrastAxis> axis =
       choose_contrast_axis(small, options_.tape.color_bgr, ladder_bars_small_px());
   const std::optional<ContrastAxis> remembered = history ? history->axis : std::nullopt;
-  if (remembered && (!axis || !same_colour_direction(*axis, *remembered))) {
-    const LineMeasurement m = search_on_axis(frame, small, *remembered, stamp_s, &d, history);
-    if (m.line_found || !axis) return m;
-  }
+  if (remembered && (!axis || !same_colour_direction(*axis, *remembered)))
+    return search_on_axis(frame, small, *remembered, stamp_s, &d, history);
   if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
   return search_on_axis(frame, small, *axis, stamp_s, &d, history);
 }

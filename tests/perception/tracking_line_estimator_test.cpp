@@ -228,5 +228,39 @@ TEST(TrackingLineEstimator, ATapeWhoseFarEdgeLeftTheViewIsFollowedByItsOneEdge) 
   EXPECT_FALSE(LineEstimator(camera, any_width).estimate(last, 0.0).line_found);
 }
 
+// The colour the tape followed was found on decides what tape is: after frames of dark tape on
+// a grey floor, a frame showing only a light strip of the same width (the floor between the two
+// legs of a fork of dark tape looks like that) has no line, where a fresh estimator takes the
+// strip; after FollowHistory::kForgetAxisAfterFrames frames without a line it is taken up.
+TEST(TrackingLineEstimator, AStripOfTheOppositeColourIsNoLineWhileTheTapeIsRemembered) {
+  const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
+  pipeline::Scene scene = testing::straight_tape_scene();
+  scene.tapes[0].path = control::Path::starting_at({-2.0, 0.0, 0.0}).add_line(5.0);
+  scene.tapes[0].color_bgr = {30.0, 30.0, 30.0};
+  pipeline::TapeStrip light = scene.tapes[0];
+  light.path = control::Path::starting_at({3.5, 0.0, 0.0}).add_line(5.0);
+  light.color_bgr = {235.0, 235.0, 235.0};
+  scene.tapes.push_back(light);
+  const pipeline::FrameRenderer renderer(camera, scene);
+  LineEstimator::Options any_width;
+  any_width.tape.width_m = 0.0;
+  TrackingLineEstimator tracking(camera, any_width);
+  for (int k = 0; k < 10; ++k)
+    ASSERT_TRUE(tracking.measure(renderer.render({1.0 + 0.03 * k, 0.0, 0.0}, {}, k), 0).line_found)
+        << "frame " << k;
+  const cv::Mat light_only = renderer.render({5.0, 0.01, 0.0}, {}, 10);
+  EXPECT_FALSE(tracking.measure(light_only, 0).line_found);
+  const LineMeasurement fresh = LineEstimator(camera, any_width).estimate(light_only, 0);
+  ASSERT_TRUE(fresh.line_found);
+  EXPECT_NEAR(fresh.e_d_m, 0.01, 0.0005);
+  int frames_until_taken = 1;
+  for (; frames_until_taken < 50; ++frames_until_taken) {
+    if (tracking.measure(renderer.render({5.0 + 0.01 * frames_until_taken, 0.01, 0.0}, {}, 11), 0)
+            .line_found)
+      break;
+  }
+  EXPECT_EQ(frames_until_taken, FollowHistory::kForgetAxisAfterFrames + 1);
+}
+
 }  // namespace
 }  // namespace agv::perception
