@@ -581,7 +581,11 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
   const DetectedLine& line = detection.lines[detection.followed];
   if (!(tape_width_m_ > 0.0)) tape_width_m_ = line.width_m;
   std::vector<double> widths;
-  std::vector<Eigen::Vector2d> evidence = chord_centres(detection, &widths);
+  // Chords across the overlap of a junction's legs first: a chord only a little wider than the
+  // tape there has its midpoint off the followed leg's centre by half the excess.
+  std::vector<bool> overlapping;
+  const std::vector<Eigen::Vector2d> overlap = overlap_centres(detection, &overlapping);
+  std::vector<Eigen::Vector2d> evidence = chord_centres(detection, overlapping, &widths);
   // A width taken from a first frame that saw only part of the tape would refuse every chord of
   // the whole tape from then on (98 mm tape remembered as 81 mm: no evidence for metres): where
   // the followed line keeps showing one other width and none of its chords is accepted, for
@@ -596,8 +600,9 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
     tape_width_m_ = line.width_m;
     disagreeing_frames_ = 0;
     widths.clear();
-    evidence = chord_centres(detection, &widths);
+    evidence = chord_centres(detection, overlapping, &widths);
   }
+  evidence.insert(evidence.end(), overlap.begin(), overlap.end());
   // The tape's width follows what the accepted evidence shows (slowly: a worn stretch or a
   // merged chord does not move it).
   if (widths.size() >= 3) {
@@ -607,7 +612,57 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
   return evidence;
 }
 
+std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& detection,
+                                                         std::vector<bool>* used) const {
+  std::vector<Eigen::Vector2d> centres;
+  used->assign(detection.chords.size(), false);
+  const double w = tape_width_m_;
+  if (!detection.junction || detection.lines.size() < 2 || !(w > 0.0)) return centres;
+  const DetectedLine& line = detection.lines[detection.followed];
+  // The followed leg's side of each other line: where its evidence ends farthest from the
+  // vehicle, at least a tape width away from it.
+  const Eigen::Vector2d far_end =
+      line.model.point_at(line.s_min_m).norm() > line.model.point_at(line.s_max_m).norm()
+          ? line.model.point_at(line.s_min_m)
+          : line.model.point_at(line.s_max_m);
+  const CurveModel::Prepared followed = line.model.prepared();
+  for (int index : line.chords) {
+    const Chord& chord = detection.chords[index];
+    const Eigen::Vector2d ahead = line.model.tangent_at(line.model.arc_position(chord.centre()));
+    const Eigen::Vector2d normal(-ahead.y(), ahead.x());
+    const double width_m = std::abs(normal.dot(chord.a - chord.b));
+    if (width_m <= w + kOverlapMin_m || width_m >= 2.0 * w) continue;
+    // The other leg the chord overlaps: within a tape width of it, where its evidence is.
+    for (size_t other = 0; other < detection.lines.size(); ++other) {
+      if (static_cast<int>(other) == detection.followed) continue;
+      const DetectedLine& other_line = detection.lines[other];
+      const CurveModel::Prepared curve = other_line.model.prepared();
+      const double s = other_line.model.arc_position(chord.centre());
+      if (s < other_line.s_min_m - w || s > other_line.s_max_m + w ||
+          std::abs(curve.signed_distance(chord.centre())) > w)
+        continue;
+      const double side_distance = curve.signed_distance(far_end);
+      if (std::abs(side_distance) < w) continue;
+      const double side = side_distance > 0.0 ? 1.0 : -1.0;
+      const double da = side * curve.signed_distance(chord.a);
+      const double db = side * curve.signed_distance(chord.b);
+      const Eigen::Vector2d& outer = da > db ? chord.a : chord.b;
+      const Eigen::Vector2d& inner = da > db ? chord.b : chord.a;
+      // The inner edge is the other leg's far edge, half a width beyond its centre.
+      if (std::abs(std::min(da, db) + 0.5 * w) > 0.25 * w) continue;
+      const double inwards = normal.dot(inner - outer) > 0.0 ? 1.0 : -1.0;
+      const Eigen::Vector2d centre = outer + inwards * 0.5 * w * normal;
+      if (std::abs(followed.signed_distance(centre)) > w) continue;  // not the followed leg
+      centres.push_back(centre);
+      (*used)[index] = true;
+      break;
+    }
+  }
+  return centres;
+}
+
 std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& detection,
+                                                       const std::vector<bool>& overlapping,
                                                        std::vector<double>* widths) const {
   const DetectedLine& line = detection.lines[detection.followed];
   const std::vector<int>& chords = static_cast<int>(line.clean_chords.size()) >= options_.min_points
@@ -616,6 +671,7 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
   const CurveModel::Prepared model = line.model.prepared();
   std::vector<Eigen::Vector2d> evidence;
   for (int index : chords) {
+    if (overlapping[index]) continue;
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d middle = chord.centre();
     const Eigen::Vector2d ahead = line.model.tangent_at(line.model.arc_position(middle));

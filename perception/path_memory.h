@@ -129,9 +129,17 @@ class PathMemory {
     double seen_at_m = 0.0;  // the odometer then
   };
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
-  // The centres of the followed line's chords within chord_width_tolerance of tape_width_m_ and
-  // not near another line (their widths in *widths).
+  // Where the legs of a junction in view still overlap (a Y fork's branch leaving tangentially),
+  // a chord spans both: from the other leg's far edge to the followed leg's outer edge. The
+  // followed leg's centre is that outer edge moved half a tape width inwards. `used` marks the
+  // chords read so (wider than the tape by more than kOverlapMin_m, narrower than two).
+  static constexpr double kOverlapMin_m = 0.0005;
+  std::vector<Eigen::Vector2d> overlap_centres(const LineDetection& detection,
+                                               std::vector<bool>* used) const;
+  // The centres of the followed line's chords within chord_width_tolerance of tape_width_m_, not
+  // near another line and not `overlapping` (their widths in *widths).
   std::vector<Eigen::Vector2d> chord_centres(const LineDetection& detection,
+                                             const std::vector<bool>& overlapping,
                                              std::vector<double>* widths) const;
   // For each point (vehicle frame): whether it lies on a line in view other than the followed
   // one, and not on that, nor nearer the vehicle than their junction: tape remembered there is

@@ -724,5 +724,68 @@ TEST(PathMemory, TapeLostStraightAheadIsLost) {
   EXPECT_GT(r.lost, 0);
 }
 
+// A Y fork seen ahead, the branch taken: it leaves the straight tape tangentially at x = 0.2 m
+// (an arc of R 0.6 m to the right), and while the two tapes overlap, each scan line crosses both
+// at once (a chord from the straight tape's left edge to the branch's right edge). No chord there
+// is one tape wide, yet the vehicle will drive over that stretch: the branch's centre is its
+// outer edge moved half a width inwards, and that is what the memory keeps (exact geometry:
+// within 0.05 mm of the branch's centre line; from x = 0.21 m, where the branch's offset first
+// exceeds kOverlapMin_m, to where the tapes part). Without it the stretch stayed empty and the
+// scenarios/fork_right.yaml vehicle was measured from the line in view carried back, up to 44 mm
+// off.
+TEST(PathMemory, ABranchTakenIsRememberedWhereItStillOverlapsTheOtherLeg) {
+  constexpr double kForkX = 0.2, kRadius = 0.6, w = kTapeWidthM;
+  const CurveModel branch = curve_through_point({kForkX, 0.0}, 0.0, -1.0 / kRadius);
+  // The branch's centre line and edges on the scan line at x: circles about (kForkX, -R) of
+  // radius R, R + w/2 (its left edge) and R - w/2 (its right edge, inside the turn).
+  auto on_circle = [&](double x, double radius) {
+    return -kRadius + std::sqrt(radius * radius - (x - kForkX) * (x - kForkX));
+  };
+  auto branch_y = [&](double x) { return on_circle(x, kRadius); };
+  LineDetection d;
+  DetectedLine straight, taken;
+  for (double x = 0.17; x <= 0.43; x += 0.004) {
+    const bool forked = x > kForkX;
+    const double left = forked ? on_circle(x, kRadius + 0.5 * w) : 0.5 * w;
+    const double right = forked ? on_circle(x, kRadius - 0.5 * w) : -0.5 * w;
+    if (left > -0.5 * w) {  // one crossing of both tapes (or of the stem)
+      d.chords.push_back({{x, 0.5 * w}, {x, right}});
+      taken.chords.push_back(static_cast<int>(d.chords.size()) - 1);
+      if (!forked) straight.chords.push_back(taken.chords.back());
+    } else {  // the tapes apart: one crossing each
+      d.chords.push_back({{x, 0.5 * w}, {x, -0.5 * w}});
+      straight.chords.push_back(static_cast<int>(d.chords.size()) - 1);
+      d.chords.push_back({{x, left}, {x, right}});
+      taken.chords.push_back(static_cast<int>(d.chords.size()) - 1);
+    }
+  }
+  straight.clean_chords = straight.chords;
+  straight.width_m = w;
+  straight.s_min_m = 0.17;
+  straight.s_max_m = 0.43;
+  taken.width_m = w;
+  taken.model = branch;
+  taken.s_min_m = branch.arc_position({0.17, 0.0});
+  taken.s_max_m = branch.arc_position({0.43, branch_y(0.43)});
+  d.lines = {straight, taken};
+  d.followed = 1;
+  Junction junction;
+  junction.point_m = {kForkX, 0.0};
+  d.junction = junction;
+
+  PathMemory memory;
+  LineMeasurement in_view;
+  in_view.line_found = true;
+  memory.update(in_view, d, Pose2{});
+  int on_overlap = 0;
+  for (const Eigen::Vector2d& p : memory.points_in_vehicle_frame()) {
+    EXPECT_NEAR(branch.signed_distance(p), 0.0, 5e-5) << p.transpose();
+    if (p.x() > kForkX && -branch_y(p.x()) < w) ++on_overlap;
+  }
+  // The overlap runs from x = 0.2 m to 0.39 m (offset a tape width): a chord every 4 mm, those
+  // within kOverlapMin_m of the fork (up to x = 0.224 m) read as the stem.
+  EXPECT_GE(on_overlap, 35);
+}
+
 }  // namespace
 }  // namespace agv::perception
