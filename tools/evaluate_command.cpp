@@ -118,6 +118,7 @@ void print_sequences(const nlohmann::json& s) {
       s["lines_reported_without_tape"].get<int>(), s["frames_without_tape"].get<int>(),
       s["perceive_ms_median"].get<double>(), s["perceive_ms_p99"].get<double>());
   std::printf("sequences by piece (RMS / max):");
+  if (s["by_piece"].empty()) std::printf(" no frame found after the warm-up");
   for (const auto& [piece, e] : s["by_piece"].items()) {
     std::printf(" | %s %d: %.3f / %.3f mm, %.3f / %.3f deg", piece.c_str(), e["frames"].get<int>(),
                 1e3 * e["rms_e_d_m"].get<double>(), 1e3 * e["max_abs_e_d_m"].get<double>(),

@@ -267,6 +267,7 @@ nlohmann::json summarise(const SequenceBenchmarkResult& result,
   j["after_warm_up"]["frames_extrapolated"] = extrapolated;
   j["after_warm_up"]["frames_remembered_only"] = remembered_only;
   j["after_warm_up"]["width_error_median"] = percentile(width_errors, 0.5);
+  j["by_piece"] = nlohmann::json::object();  // empty when no frame was found after the warm-up
   for (const auto& [piece, errors] : by_piece)
     j["by_piece"][piece] = error_figures(errors.first, errors.second);
   j["direction_flips"] = flips;
