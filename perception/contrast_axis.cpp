@@ -282,7 +282,17 @@ void strongest_combination(const std::vector<cv::Mat>& responses, int channels, 
 std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
                                                  const std::optional<cv::Vec3d>& tape_hint_bgr,
                                                  const std::vector<double>& bar_widths_px) {
-  if (frame.empty()) return std::nullopt;
+  const std::vector<ContrastAxis> axes =
+      choose_contrast_axes(frame, tape_hint_bgr, bar_widths_px, 1);
+  if (axes.empty()) return std::nullopt;
+  return axes.front();
+}
+
+std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
+                                               const std::optional<cv::Vec3d>& tape_hint_bgr,
+                                               const std::vector<double>& bar_widths_px,
+                                               int max_axes) {
+  if (frame.empty()) return {};
   const int channels = frame.channels();
   const cv::Vec3d floor = median_colour(frame);
   // Linear bar responses per width and channel, along rows and columns, at every second sample
@@ -307,12 +317,15 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
     for (int k = 0; k < 6; ++k)
       candidates.push_back(std::cos(k * CV_PI / 3) * u1 + std::sin(k * CV_PI / 3) * u2);
   }
-  // Candidates ranked on their histograms' levels; the winner's tape contrast (which scales the
-  // axis) from the exact order statistics of its response.
-  double best_score = 0.0;
-  std::optional<size_t> best;
-  cv::Vec3d best_d;
-  cv::Mat response, best_response;
+  // Candidates ranked on their histograms' levels; each axis chosen is scaled by its tape
+  // contrast, from the exact order statistics of its response.
+  struct Scored {
+    double score;
+    size_t k;
+    cv::Vec3d d;
+  };
+  std::vector<Scored> scored;
+  cv::Mat response;
   for (size_t k = 0; k < candidates.size(); ++k) {
     cv::Vec3d d = candidates[k];
     if (channels == 1) d = cv::Vec3d::all((d[0] + d[1] + d[2]) / 3.0);
@@ -330,35 +343,44 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
     constexpr double kSensorNoise = 5.0, kMinContrast = 20.0;
     const double score =
         (peak - middle) / std::hypot(spread, kSensorNoise) * (tape_hint_bgr && k == 0 ? 1.2 : 1.0);
-    if (score > best_score && peak - middle >= kMinContrast) {
-      best_score = score;
-      best = k;
-      best_d = d;
-      std::swap(best_response, response);
+    if (peak - middle >= kMinContrast) scored.push_back({score, k, d});
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const Scored& a, const Scored& b) { return a.score > b.score; });
+  std::vector<ContrastAxis> axes;
+  std::vector<cv::Vec3d> taken;
+  for (const Scored& candidate : scored) {
+    if (static_cast<int>(axes.size()) >= max_axes) break;
+    // Another axis only where it points another way in colour than those taken.
+    if (std::any_of(taken.begin(), taken.end(),
+                    [&](const cv::Vec3d& t) { return t.dot(candidate.d) > 0.0; }))
+      continue;
+    taken.push_back(candidate.d);
+    const cv::Vec3d& d = candidate.d;
+    strongest_combination(responses, channels, d, &response);
+    // The tape's contrast along d, about: the response's 99.5 % point above its median (the
+    // elements a full sort puts at floor(q n)).
+    std::vector<float> values(response.begin<float>(), response.end<float>());
+    auto order_statistic = [&](double q) {
+      const auto at =
+          values.begin() + std::min(values.size() - 1, static_cast<size_t>(q * values.size()));
+      std::nth_element(values.begin(), at, values.end());
+      return static_cast<double>(*at);
+    };
+    const double level = order_statistic(0.995) - order_statistic(0.5);
+    ContrastAxis axis;
+    if (channels == 1) {
+      axis.weights = cv::Vec3f(static_cast<float>(d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
+      axis.offset = static_cast<float>(-floor[0] * d[0] * std::sqrt(3.0) / level);
+    } else {
+      const cv::Vec3d w = d / level;
+      axis.weights = cv::Vec3f(w);
+      axis.offset = static_cast<float>(-w.dot(floor));
     }
+    axis.from_hint = tape_hint_bgr && candidate.k == 0;
+    axes.push_back(axis);
   }
-  if (!best) return std::nullopt;
-  // The tape's contrast along d, about: the response's 99.5 % point above its median (the
-  // elements a full sort puts at floor(q n)).
-  std::vector<float> values(best_response.begin<float>(), best_response.end<float>());
-  auto order_statistic = [&](double q) {
-    const auto at =
-        values.begin() + std::min(values.size() - 1, static_cast<size_t>(q * values.size()));
-    std::nth_element(values.begin(), at, values.end());
-    return static_cast<double>(*at);
-  };
-  const double level = order_statistic(0.995) - order_statistic(0.5);
-  ContrastAxis axis;
-  if (channels == 1) {
-    axis.weights = cv::Vec3f(static_cast<float>(best_d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
-    axis.offset = static_cast<float>(-floor[0] * best_d[0] * std::sqrt(3.0) / level);
-  } else {
-    const cv::Vec3d w = best_d / level;
-    axis.weights = cv::Vec3f(w);
-    axis.offset = static_cast<float>(-w.dot(floor));
-  }
-  axis.from_hint = tape_hint_bgr && *best == 0;
-  return axis;
+  return axes;
 }
 
 }  // namespace agv::perception

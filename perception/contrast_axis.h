@@ -39,4 +39,12 @@ std::optional<ContrastAxis> choose_contrast_axis(const cv::Mat& frame,
                                                  const std::optional<cv::Vec3d>& tape_hint_bgr,
                                                  const std::vector<double>& bar_widths_px);
 
+// The same, best first: up to max_axes axes, each pointing another way in colour than those
+// before it (their weights more than 90 deg apart), for a search that finds no tape on the first
+// (a glare spot or a blotch can stand out more than narrow tape). Empty for a flat frame.
+std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
+                                               const std::optional<cv::Vec3d>& tape_hint_bgr,
+                                               const std::vector<double>& bar_widths_px,
+                                               int max_axes);
+
 }  // namespace agv::perception

@@ -316,13 +316,22 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
   // blotches' polarity can win, and between the two legs of a fork of dark tape the floor is a
   // light strip of about a tape's width. A tape of another colour is taken up once the axis is
   // forgotten (FollowHistory::kForgetAxisAfterFrames frames without a line).
-  const std::optional<ContrastAxis> axis =
-      choose_contrast_axis(small, options_.tape.color_bgr, ladder_bars_small_px());
+  // Without a remembered axis, where the frame's best axis gives no line, the next best that
+  // points another way in colour is searched too (a glare spot can stand out more than narrow
+  // dark tape).
+  const std::vector<ContrastAxis> axes =
+      choose_contrast_axes(small, options_.tape.color_bgr, ladder_bars_small_px(), 2);
   const std::optional<ContrastAxis> remembered = history ? history->axis : std::nullopt;
-  if (remembered && (!axis || !same_colour_direction(*axis, *remembered)))
+  if (remembered && (axes.empty() || !same_colour_direction(axes.front(), *remembered)))
     return search_on_axis(frame, small, *remembered, stamp_s, &d, history);
-  if (!axis) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
-  return search_on_axis(frame, small, *axis, stamp_s, &d, history);
+  if (axes.empty()) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
+  const LineMeasurement m = search_on_axis(frame, small, axes.front(), stamp_s, &d, history);
+  if (m.line_found || remembered || axes.size() < 2) return m;
+  LineDetection second;
+  const LineMeasurement other = search_on_axis(frame, small, axes[1], stamp_s, &second, history);
+  if (!other.line_found) return m;  // the best axis's reason
+  d = std::move(second);
+  return other;
 }
 
 LineMeasurement LineEstimator::search_on_axis(const cv::Mat& frame, const cv::Mat& small,
