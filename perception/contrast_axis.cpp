@@ -325,7 +325,8 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
     cv::Vec3d d;
   };
   std::vector<Scored> scored;
-  cv::Mat response;
+  cv::Mat response, best_response;  // the best candidate's, kept (the first of equal scores)
+  double best_score = 0.0;
   for (size_t k = 0; k < candidates.size(); ++k) {
     cv::Vec3d d = candidates[k];
     if (channels == 1) d = cv::Vec3d::all((d[0] + d[1] + d[2]) / 3.0);
@@ -343,7 +344,12 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
     constexpr double kSensorNoise = 5.0, kMinContrast = 20.0;
     const double score =
         (peak - middle) / std::hypot(spread, kSensorNoise) * (tape_hint_bgr && k == 0 ? 1.2 : 1.0);
-    if (peak - middle >= kMinContrast) scored.push_back({score, k, d});
+    if (peak - middle < kMinContrast) continue;
+    if (scored.empty() || score > best_score) {
+      best_score = score;
+      std::swap(best_response, response);
+    }
+    scored.push_back({score, k, d});
   }
   std::stable_sort(scored.begin(), scored.end(),
                    [](const Scored& a, const Scored& b) { return a.score > b.score; });
@@ -357,7 +363,11 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
       continue;
     taken.push_back(candidate.d);
     const cv::Vec3d& d = candidate.d;
-    strongest_combination(responses, channels, d, &response);
+    if (axes.empty()) {
+      std::swap(response, best_response);  // the best is the first chosen
+    } else {
+      strongest_combination(responses, channels, d, &response);
+    }
     // The tape's contrast along d, about: the response's 99.5 % point above its median (the
     // elements a full sort puts at floor(q n)).
     std::vector<float> values(response.begin<float>(), response.end<float>());

@@ -78,6 +78,28 @@ void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int la
   if (start >= 0) runs->push_back({start, last});
 }
 
+// An edge's half-way level is taken from kEdgeNear samples on each side of it, starting kEdgeGap
+// samples away (find_profile_edges' third pass, edge_from_border).
+constexpr int kEdgeNear = 4;
+constexpr float kEdgeGap = 1.5f;
+
+// The profile between samples (linear interpolation; clamped to its ends).
+float profile_at(const std::vector<float>& profile, float x) {
+  const int k =
+      std::clamp(static_cast<int>(std::floor(x)), 0, static_cast<int>(profile.size()) - 2);
+  return profile[k] + (x - k) * (profile[k + 1] - profile[k]);
+}
+
+// The mean of the profile at e -+ (kEdgeGap + k), k = 0 .. kEdgeNear - 1: symmetric about the
+// edge at e, so that the blur of the edge raises the one side's level as much as it lowers the
+// other's and leaves the half-way level where it is.
+float half_way_level(const std::vector<float>& profile, float e) {
+  float sum = 0.0f;
+  for (int k = 0; k < kEdgeNear; ++k)
+    sum += profile_at(profile, e + (kEdgeGap + k)) + profile_at(profile, e - (kEdgeGap + k));
+  return sum / (2 * kEdgeNear);
+}
+
 // The tape's two edges on one contrast profile whose samples [run_lo, run_hi] hold the tape
 // (its peak is searched there only; the flanks may hold other tape), with at least 2 * side
 // floor samples beyond each edge: the places where the profile crosses half-way between the
@@ -136,7 +158,7 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   // Third pass with both levels taken right next to each edge: floor texture varies over a few
   // millimetres, so the floor far out differs from the floor the edge blends into. At the
   // second pass's sub-pixel edge e, the floor's level is the mean of the profile at
-  // e -+ (kGap + k) and the tape's at e +- (kGap + k), k = 0 .. kNear - 1 (linear
+  // e -+ (kEdgeGap + k) and the tape's at e +- (kEdgeGap + k), k = 0 .. kEdgeNear - 1 (linear
   // interpolation): symmetric about the edge, so that the blur of the edge raises the one level
   // as much as it lowers the other and leaves the half-way level where it is. An edge this
   // moves by more than 2 samples (a texture blob as bright as the tape next to it) keeps the
@@ -151,20 +173,7 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   };
   const float first_2 = first_crossing(i, local_first);
   const float second_2 = second_crossing(j, local_second);
-  constexpr int kNear = 4;
-  constexpr float kGap = 1.5f;
-  auto at = [&](float x) {  // the profile between samples
-    const int k = std::clamp(static_cast<int>(std::floor(x)), 0, count - 2);
-    return profile[k] + (x - k) * (profile[k + 1] - profile[k]);
-  };
-  // Mean of the levels on the two sides of edge e, `outward` pointing to the floor.
-  auto half_way_at = [&](float e, float outward) {
-    float sum = 0.0f;
-    for (int k = 0; k < kNear; ++k)
-      sum += at(e + outward * (kGap + k)) + at(e - outward * (kGap + k));
-    return sum / (2 * kNear);
-  };
-  const float reach = kGap + kNear - 1;
+  const float reach = kEdgeGap + kEdgeNear - 1;
   // The walk to an edge at `level` starts 3 samples inside the tape from the edge before (the
   // peak walk would pass there on its way to any edge within 2 samples), or else at the peak.
   auto walk_near = [&](int edge, int step, float level) {
@@ -180,12 +189,12 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   for (int round = 0; round < 2; ++round) {
     const float first = edges.first, second = edges.second;
     if (first - reach >= 0.0f && first + reach < second) {
-      const float level = half_way_at(first, -1.0f);
+      const float level = half_way_level(profile, first);
       const int k = walk_near(i, -1, level);
       if (k >= side && std::abs(k - i) <= 2) edges.first = first_crossing(k, level);
     }
     if (second + reach <= count - 1 && second - reach > first) {
-      const float level = half_way_at(second, 1.0f);
+      const float level = half_way_level(profile, second);
       const int k = walk_near(j, +1, level);
       if (k <= count - 1 - side && std::abs(k - j) <= 2) edges.second = second_crossing(k, level);
     }
@@ -332,16 +341,8 @@ std::optional<float> edge_from_border(const std::vector<float>& profile, int sta
   };
   std::optional<float> edge = crossing_near(k - 0.5f * inward, 0.5f * (floor_level + tape_level));
   if (!edge) return std::nullopt;
-  auto at = [&](float x) {  // the profile between samples
-    const int m = std::clamp(static_cast<int>(std::floor(x)), 0, n - 2);
-    return profile[m] + (x - m) * (profile[m + 1] - profile[m]);
-  };
-  constexpr int kNear = 4;
-  constexpr float kGap = 1.5f;
   for (int round = 0; round < 2; ++round) {
-    float sum = 0.0f;
-    for (int j = 0; j < kNear; ++j) sum += at(*edge + (kGap + j)) + at(*edge - (kGap + j));
-    const std::optional<float> refined = crossing_near(*edge, sum / (2 * kNear));
+    const std::optional<float> refined = crossing_near(*edge, half_way_level(profile, *edge));
     if (!refined) break;
     edge = refined;
   }
