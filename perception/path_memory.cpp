@@ -619,13 +619,19 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& de
   const double w = tape_width_m_;
   if (!detection.junction || detection.lines.size() < 2 || !(w > 0.0)) return centres;
   const DetectedLine& line = detection.lines[detection.followed];
-  // The followed leg's side of each other line: where its evidence ends farthest from the
-  // vehicle, at least a tape width away from it.
-  const Eigen::Vector2d far_end =
-      line.model.point_at(line.s_min_m).norm() > line.model.point_at(line.s_max_m).norm()
-          ? line.model.point_at(line.s_min_m)
-          : line.model.point_at(line.s_max_m);
-  const CurveModel::Prepared followed = line.model.prepared();
+  // The followed leg's side of each other line (+1 left, -1 right; 0: not a tape width clear of
+  // it): where its evidence ends farthest from the vehicle.
+  const Eigen::Vector2d start = line.model.point_at(line.s_min_m);
+  const Eigen::Vector2d end = line.model.point_at(line.s_max_m);
+  const Eigen::Vector2d far_end = start.norm() > end.norm() ? start : end;
+  std::vector<CurveModel::Prepared> curves;
+  std::vector<double> sides;
+  for (const DetectedLine& other_line : detection.lines) {
+    curves.push_back(other_line.model.prepared());
+    const double side_distance = curves.back().signed_distance(far_end);
+    sides.push_back(std::abs(side_distance) < w ? 0.0 : side_distance > 0.0 ? 1.0 : -1.0);
+  }
+  const CurveModel::Prepared& followed = curves[detection.followed];
   for (int index : line.chords) {
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d ahead = line.model.tangent_at(line.model.arc_position(chord.centre()));
@@ -634,16 +640,14 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& de
     if (width_m <= w + kOverlapMin_m || width_m >= 2.0 * w) continue;
     // The other leg the chord overlaps: within a tape width of it, where its evidence is.
     for (size_t other = 0; other < detection.lines.size(); ++other) {
-      if (static_cast<int>(other) == detection.followed) continue;
+      if (static_cast<int>(other) == detection.followed || sides[other] == 0.0) continue;
       const DetectedLine& other_line = detection.lines[other];
-      const CurveModel::Prepared curve = other_line.model.prepared();
+      const CurveModel::Prepared& curve = curves[other];
       const double s = other_line.model.arc_position(chord.centre());
       if (s < other_line.s_min_m - w || s > other_line.s_max_m + w ||
           std::abs(curve.signed_distance(chord.centre())) > w)
         continue;
-      const double side_distance = curve.signed_distance(far_end);
-      if (std::abs(side_distance) < w) continue;
-      const double side = side_distance > 0.0 ? 1.0 : -1.0;
+      const double side = sides[other];
       const double da = side * curve.signed_distance(chord.a);
       const double db = side * curve.signed_distance(chord.b);
       const Eigen::Vector2d& outer = da > db ? chord.a : chord.b;
