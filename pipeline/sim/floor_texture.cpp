@@ -5,6 +5,7 @@
 #include <tuple>
 
 #include "common/recent_cache.h"
+#include "common/vector_clones.h"
 
 namespace agv::pipeline {
 
@@ -43,6 +44,18 @@ cv::Mat make_tile(double texel_m, double feature_size_m, std::uint64_t seed) {
   return (tile - mean[0]) / std::max(stddev[0], 1e-12);
 }
 
+// The tile's texels in blocks of `block` x `block`, block after block along the tile's rows,
+// each block row-major (FloorTexture::texel's order).
+cv::Mat blocked(const cv::Mat& tile, int block) {
+  cv::Mat out(1, tile.rows * tile.cols, CV_32F);
+  float* next = out.ptr<float>();
+  for (int by = 0; by < tile.rows; by += block)
+    for (int bx = 0; bx < tile.cols; bx += block)
+      for (int y = by; y < by + block; ++y)
+        for (int x = bx; x < bx + block; ++x) *next++ = tile.at<float>(y, x);
+  return out;
+}
+
 }  // namespace
 
 FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t seed)
@@ -50,8 +63,20 @@ FloorTexture::FloorTexture(double texel_m, double feature_size_m, std::uint64_t 
   // Made once per process for each (texel, feature size, seed) and shared read-only (every run
   // of a comparison suite has the same floor); the last 8 are kept.
   static RecentCache<std::tuple<double, double, std::uint64_t>, cv::Mat> tiles(8);
-  texels_ = tiles.get({texel_m, feature_size_m, seed},
-                      [&] { return make_tile(texel_m, feature_size_m, seed); });
+  blocked_ = tiles.get({texel_m, feature_size_m, seed},
+                       [&] { return blocked(make_tile(texel_m, feature_size_m, seed), kBlock); });
+  blocks_ = blocked_.ptr<float>();
+}
+
+AGV_VECTOR_CLONES
+void FloorTexture::add_samples(const float* __restrict xs, const float* __restrict ys, int count,
+                               float c, float s, float tx, float ty, float* __restrict out) const {
+  const float* __restrict blocks = blocks_;
+  const float inverse_texel_m = inverse_texel_m_;
+  for (int k = 0; k < count; ++k) {
+    out[k] += bilinear(blocks, (c * xs[k] - s * ys[k] + tx) * inverse_texel_m,
+                       (s * xs[k] + c * ys[k] + ty) * inverse_texel_m);
+  }
 }
 
 }  // namespace agv::pipeline

@@ -203,11 +203,8 @@ void FrameRenderer::render_texture(const std::vector<SubPose>& texture_poses) co
     for (int v = 0; v < texture_small.rows; ++v) {
       const float* xs = texture_x_m_.ptr<float>(v);
       const float* ys = texture_y_m_.ptr<float>(v);
-      float* out = texture_small.ptr<float>(v);
-      for (int u = 0; u < texture_small.cols; ++u) {
-        out[u] += texture_.sample(sp.c * xs[u] - sp.s * ys[u] + sp.tx,
-                                  sp.s * xs[u] + sp.c * ys[u] + sp.ty);
-      }
+      texture_.add_samples(xs, ys, texture_small.cols, sp.c, sp.s, sp.tx, sp.ty,
+                           texture_small.ptr<float>(v));
     }
   }
   cv::resize(texture_small, workspace_.texture_image, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
