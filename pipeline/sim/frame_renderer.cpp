@@ -139,6 +139,18 @@ void FrameRenderer::make_tape_tables() {
     }
     tape_reach_m_.push_back(reach);
   }
+  // Every kCoarseStep-th pixel of each row, and its last (read for every row of every frame: a
+  // gather from the full grids missed the cache at every sample).
+  const int coarse = (w - 1 + kCoarseStep - 1) / kCoarseStep + 1;
+  coarse_x_m_.create(h, coarse, CV_32F);
+  coarse_y_m_.create(h, coarse, CV_32F);
+  for (int v = 0; v < h; ++v) {
+    for (int k = 0; k < coarse; ++k) {
+      const int u = std::min(k * kCoarseStep, w - 1);
+      coarse_x_m_.at<float>(v, k) = floor_x_m_.at<float>(v, u);
+      coarse_y_m_.at<float>(v, k) = floor_y_m_.at<float>(v, u);
+    }
+  }
   row_step_m_.assign(h, 0.0f);
   for (int v = 0; v < h; ++v) {
     const float* xs = floor_x_m_.ptr<float>(v);
@@ -285,15 +297,8 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   // piece can fall by at most half their floor separation below the mean of theirs (distance is
   // 1-Lipschitz), so a stretch whose bound exceeds the tape's reach shows none of it. The image
   // is the same as drawing every pixel; the margin covers float rounding.
-  const int coarse = (w - 1 + kCoarseStep - 1) / kCoarseStep + 1;
-  b->coarse_x.resize(coarse);
-  b->coarse_y.resize(coarse);
+  const int coarse = coarse_x_m_.cols;
   b->coarse_distance.resize(coarse);
-  for (int k = 0; k < coarse; ++k) {
-    const int u = std::min(k * kCoarseStep, w - 1);
-    b->coarse_x[k] = xs[u];
-    b->coarse_y[k] = ys[u];
-  }
   const float reach_m = tape_reach_m_[i][v] + 1e-4f;
   const float half_span_m = 0.5f * kCoarseStep * row_step_m_[v];
   // Columns [drawn_first, drawn_last] hold all the tape of this row (alpha is 0 outside);
@@ -305,7 +310,7 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
     for (const LocalPiece& piece : sp.pieces) {
       if (piece.strip != i) continue;
       any = true;
-      piece_distances(piece, b->coarse_x.data(), b->coarse_y.data(), coarse,
+      piece_distances(piece, coarse_x_m_.ptr<float>(v), coarse_y_m_.ptr<float>(v), coarse,
                       b->coarse_distance.data(), /*cuts=*/false);
       for (int k = 0; k + 1 < coarse;) {
         // The longest run of stretches that the tape may reach, drawn in one go.
@@ -336,9 +341,11 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
     }
     if (!any) continue;
     strip_in_row = true;
+    float* __restrict summed = alpha.data();
+    float* __restrict coverage = b->coverage.data();
     for (int u = pose_first; u <= pose_last; ++u) {
-      alpha[u] += b->coverage[u];
-      b->coverage[u] = 0.0f;
+      summed[u] += coverage[u];
+      coverage[u] = 0.0f;
     }
     drawn_first = std::min(drawn_first, pose_first);
     drawn_last = std::max(drawn_last, pose_last);

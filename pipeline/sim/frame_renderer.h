@@ -58,6 +58,8 @@ class FrameRenderer {
   // Per strip and row: beyond this distance from its centre line a pixel shows no tape (half
   // the width plus half the widest edge ramp in the row), metres.
   std::vector<std::vector<float>> tape_reach_m_;
+  // The floor points of every kCoarseStep-th pixel of each row and of its last (CV_32F).
+  cv::Mat coarse_x_m_, coarse_y_m_;
   // Per row: the largest floor distance between neighbouring pixels, metres.
   std::vector<float> row_step_m_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
@@ -99,7 +101,7 @@ class FrameRenderer {
           red(width),
           alpha(strips, std::vector<float>(width)) {}
     std::vector<float> distance, coverage, blue, green, red;
-    std::vector<float> coarse_x, coarse_y, coarse_distance;  // every kCoarseStep-th pixel
+    std::vector<float> coarse_distance;     // at coarse_x_m_, coarse_y_m_
     std::vector<std::vector<float>> alpha;  // per strip: coverage summed over the exposure
   };
   void shade_floor_row(int v, const RowContext& row, RowBuffers* buffers) const;
