@@ -401,9 +401,12 @@ void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b
     unsigned char* __restrict out = workspace_.planes[ch].ptr<unsigned char>(v);
     const float* __restrict c = colour[ch];
     for (int u = 0; u < w; ++u) {
-      const float value = std::min(
-          std::max(c[u] * gain[u] + glare[u] + row.noise_gain * noise[u] + 0.5f, 0.0f), 255.0f);
-      out[u] = static_cast<unsigned char>(static_cast<int>(value));
+      // Rounded (+ 0.5, truncated), then clamped to 0-255: clamping the integer is the same as
+      // clamping the float before it (the values are far inside int's range), and unlike float
+      // min/max (NaN rules) it maps onto vector instructions.
+      const int level =
+          static_cast<int>(c[u] * gain[u] + glare[u] + row.noise_gain * noise[u] + 0.5f);
+      out[u] = static_cast<unsigned char>(std::min(std::max(level, 0), 255));
     }
   }
 }
