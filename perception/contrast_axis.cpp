@@ -192,22 +192,24 @@ cv::Mat bar_response_samples(const cv::Mat& frame, int channel, int bar, bool ho
 // compared with. (Exact ones, by partial sorts, cost more than the bar responses they score.)
 class Distribution {
  public:
-  explicit Distribution(const cv::Mat& values) : n_(static_cast<double>(values.total())) {
+  // `values` (CV_32F, continuous) must outlive the distribution.
+  explicit Distribution(const cv::Mat& values)
+      : values_(values.ptr<float>()), size_(values.total()), n_(static_cast<double>(size_)) {
     double lo = 0.0, hi = 0.0;
     cv::minMaxLoc(values, &lo, &hi);
     lo_ = static_cast<float>(lo);
     width_ = std::max(1e-12, (hi - lo) / kBins);
+    inverse_width_ = static_cast<float>(1.0 / width_);
     // Four interleaved histograms: floor values fall into a few bins, and one counter
     // incremented again and again waits for its own last store.
     std::vector<int> counts(4 * kBins, 0);
-    const float* v = values.ptr<float>();
-    const float inverse_width = static_cast<float>(1.0 / width_);
-    const size_t n = values.total();
+    const float* v = values_;
+    const size_t n = size_;
     size_t i = 0;
     for (; i + 4 <= n; i += 4) {
-      for (int lane = 0; lane < 4; ++lane) ++counts[lane * kBins + bin(v[i + lane], inverse_width)];
+      for (int lane = 0; lane < 4; ++lane) ++counts[lane * kBins + bin(v[i + lane])];
     }
-    for (; i < n; ++i) ++counts[bin(v[i], inverse_width)];
+    for (; i < n; ++i) ++counts[bin(v[i])];
     below_.resize(kBins + 1, 0);
     for (int b = 0; b < kBins; ++b)
       below_[b + 1] =
@@ -223,6 +225,20 @@ class Distribution {
   double quantile(double q) const {
     return solve([&](double v) { return count_below(v); }, q * n_, lo_, lo_ + kBins * width_);
   }
+  // The value a full sort puts at floor(q n), exactly: bins follow the values' order (float
+  // rounding is monotonic), so the histogram says which bin holds it and a partial sort of
+  // that bin's few values finds it.
+  double order_statistic(double q) const {
+    const int k = static_cast<int>(std::min(size_ - 1, static_cast<size_t>(q * size_)));
+    const int b =
+        static_cast<int>(std::upper_bound(below_.begin(), below_.end(), k) - below_.begin()) - 1;
+    std::vector<float> in_bin;
+    for (size_t i = 0; i < size_; ++i)
+      if (bin(values_[i]) == b) in_bin.push_back(values_[i]);
+    const auto at = in_bin.begin() + (k - below_[b]);
+    std::nth_element(in_bin.begin(), at, in_bin.end());
+    return *at;
+  }
   // The radius about `centre` that holds half the values.
   double median_absolute_deviation(double centre) const {
     return solve([&](double r) { return count_below(centre + r) - count_below(centre - r); },
@@ -231,8 +247,8 @@ class Distribution {
 
  private:
   static constexpr int kBins = 1024;
-  int bin(float value, float inverse_width) const {
-    return std::min(kBins - 1, static_cast<int>((value - lo_) * inverse_width));
+  int bin(float value) const {
+    return std::min(kBins - 1, static_cast<int>((value - lo_) * inverse_width_));
   }
   // x in [lo, hi] where the non-decreasing f reaches target (bisection to well below a bin).
   template <typename F>
@@ -243,10 +259,13 @@ class Distribution {
     }
     return 0.5 * (lo + hi);
   }
+  const float* values_;
+  size_t size_;
   double n_;
   float lo_ = 0.0f;
   double width_ = 1.0;
-  std::vector<int> below_;
+  float inverse_width_ = 1.0f;
+  std::vector<int> below_;  // below_[b]: the values in bins before b
 };
 
 // Per sample, the strongest over the groups of `channels` responses (same size, CV_32F) of
@@ -370,14 +389,8 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
     }
     // The tape's contrast along d, about: the response's 99.5 % point above its median (the
     // elements a full sort puts at floor(q n)).
-    std::vector<float> values(response.begin<float>(), response.end<float>());
-    auto order_statistic = [&](double q) {
-      const auto at =
-          values.begin() + std::min(values.size() - 1, static_cast<size_t>(q * values.size()));
-      std::nth_element(values.begin(), at, values.end());
-      return static_cast<double>(*at);
-    };
-    const double level = order_statistic(0.995) - order_statistic(0.5);
+    const Distribution levels(response);
+    const double level = levels.order_statistic(0.995) - levels.order_statistic(0.5);
     ContrastAxis axis;
     if (channels == 1) {
       axis.weights = cv::Vec3f(static_cast<float>(d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
