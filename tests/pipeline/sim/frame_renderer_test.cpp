@@ -74,6 +74,35 @@ TEST(FrameRenderer, SensorNoiseHasTheConfiguredSigma) {
     EXPECT_NEAR(stddev[c], 4.0 * std::sqrt(2.0), 0.3);  // rounding adds ~0.3
 }
 
+// The 8-bit output clips at both ends rather than wrapping: on a near-black floor (level 5) with
+// noise of sigma 40 (1.6 x a standard normal times 25, rounded), a level falls below 1 where
+// 25 z rounds to -3 or less (z < -0.1: 0.460 of them) and never wraps to a bright value; under
+// a glare spot of 700 levels the floor is white (255), never wrapped to a dark one.
+TEST(FrameRenderer, ExposureClipsAtBothEndsOfTheEightBitRange) {
+  Scene scene = testing::straight_tape_scene();
+  scene.tapes[0].path = control::Path::starting_at({50, 50, 0}).add_line(1.0);
+  scene.floor.texture_contrast = 0.0;
+  scene.floor.color_bgr = cv::Vec3d(5, 5, 5);
+  scene.effects = ImageEffects{40.0, 0.0, 0.0, 0.0, 0.0, 1.0};
+  scene.effects.specular_strength = 700.0;
+  scene.effects.specular_x = 0.5;
+  scene.effects.specular_y = 0.5;
+  scene.effects.specular_radius = 0.05;  // 32 px
+  const FrameRenderer renderer(default_camera(), scene);
+  const cv::Mat frame = renderer.render({0, 0, 0}, {}, 1);
+  // Dark: the top-left quarter, far from the spot (glare under 1e-5 levels there).
+  const cv::Mat dark = frame(cv::Rect(0, 0, 160, 120)).reshape(1);
+  const double zeros = static_cast<double>(dark.total() - cv::countNonZero(dark)) / dark.total();
+  EXPECT_NEAR(zeros, 0.460, 0.02);
+  double darkest = 0.0, brightest = 0.0;
+  cv::minMaxLoc(dark, &darkest, &brightest);
+  EXPECT_LE(brightest, 5 + 5.5 * 40.0);  // the noise bank is clipped at 5 sigma
+  // Bright: within 8 px of the spot's centre the glare exceeds 700 exp(-1/16) - 5 sigma > 255.
+  const cv::Mat bright = frame(cv::Rect(320 - 8, 240 - 8, 16, 16)).reshape(1);
+  cv::minMaxLoc(bright, &darkest, &brightest);
+  EXPECT_EQ(darkest, 255.0);
+}
+
 // Motion blur spreads the tape edge along the motion: sideways motion over the exposure widens
 // the transition across the tape; motion along the tape does not.
 TEST(FrameRenderer, MotionBlurFollowsTheMotion) {
