@@ -328,12 +328,14 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
         pose_first = std::min(pose_first, first);
         pose_last = std::max(pose_last, last);
         piece_distances(piece, xs + first, ys + first, count, b->distance.data());
-        float* coverage = b->coverage.data() + first;
-        const float* ramp = inverse_ramp + first;
+        // __restrict (row buffers that could alias keep loops scalar); min/max rather than
+        // std::clamp: the latter's branches keep this from vectorising.
+        float* __restrict coverage = b->coverage.data() + first;
+        const float* __restrict ramp = inverse_ramp + first;
+        const float* __restrict distance = b->distance.data();
         for (int u = 0; u < count; ++u) {
-          // min/max rather than std::clamp: the latter's branches keep this from vectorising.
           const float a =
-              std::min(std::max(0.5f + (half_width - b->distance[u]) * ramp[u], 0.0f), 1.0f);
+              std::min(std::max(0.5f + (half_width - distance[u]) * ramp[u], 0.0f), 1.0f);
           coverage[u] = std::max(coverage[u], a);
         }
         k = end;
@@ -359,13 +361,19 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
       static_cast<float>(tape.texture_contrast) /
       static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast : 1.0);
   const float inverse_samples = 1.0f / static_cast<int>(row.tape_poses->size());
+  const float texture_scale = tape_contrast * row.texture_scale;
+  const float* __restrict summed = alpha.data();
+  const float* __restrict pattern = texture;
+  float* __restrict blue = b->blue.data();
+  float* __restrict green = b->green.data();
+  float* __restrict red = b->red.data();
   for (int u = drawn_first; u <= drawn_last; ++u) {
-    const float a = alpha[u] * inverse_samples;
+    const float a = summed[u] * inverse_samples;
     // The tape shares the floor's texture pattern, at its own (weaker) contrast.
-    const float t = 1.0f + tape_contrast * row.texture_scale * texture[u];
-    b->blue[u] += a * (tape_b * t - b->blue[u]);
-    b->green[u] += a * (tape_g * t - b->green[u]);
-    b->red[u] += a * (tape_r * t - b->red[u]);
+    const float t = 1.0f + texture_scale * pattern[u];
+    blue[u] += a * (tape_b * t - blue[u]);
+    green[u] += a * (tape_g * t - green[u]);
+    red[u] += a * (tape_r * t - red[u]);
   }
 }
 
