@@ -68,6 +68,7 @@ void FrameRenderer::make_floor_grids() {
   const cv::Size texture_grid((w + 1) / 2, (h + 1) / 2);
   cv::resize(floor_x_m_, texture_x_m_, texture_grid, 0, 0, cv::INTER_AREA);
   cv::resize(floor_y_m_, texture_y_m_, texture_grid, 0, 0, cv::INTER_AREA);
+  texture_upsampler_.emplace(texture_grid, cv::Size(w, h));
 }
 
 void FrameRenderer::make_gain_and_glare() {
@@ -207,7 +208,6 @@ std::vector<FrameRenderer::SubPose> FrameRenderer::sub_poses(const Pose2& pose,
 
 AGV_VECTOR_CLONES
 void FrameRenderer::render_texture(const std::vector<SubPose>& texture_poses) const {
-  const int w = camera_.intrinsics().width_px, h = camera_.intrinsics().height_px;
   cv::Mat& texture_small = workspace_.texture_small;
   texture_small.create(texture_x_m_.size(), CV_32F);
   texture_small.setTo(0.0f);
@@ -219,7 +219,7 @@ void FrameRenderer::render_texture(const std::vector<SubPose>& texture_poses) co
                            texture_small.ptr<float>(v));
     }
   }
-  cv::resize(texture_small, workspace_.texture_image, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);
+  texture_upsampler_->forget();
 }
 
 void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
@@ -254,7 +254,8 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   cv::Mat* planes = workspace_.planes;
   for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
   for (int v = 0; v < h; ++v) {
-    shade_floor_row(v, row, &buffers);
+    texture_upsampler_->row(workspace_.texture_small, v, buffers.texture.data());
+    shade_floor_row(row, &buffers);
     for (int i = 0; i < static_cast<int>(scene_.tapes.size()); ++i)
       draw_tape_in_row(v, i, row, &buffers);
     if (!tag_patterns_.empty())
@@ -266,11 +267,11 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
 
 // The floor's colour along row v, with its texture.
 AGV_VECTOR_CLONES
-void FrameRenderer::shade_floor_row(int v, const RowContext& row, RowBuffers* b) const {
+void FrameRenderer::shade_floor_row(const RowContext& row, RowBuffers* b) const {
   const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
   const float floor_g = static_cast<float>(scene_.floor.color_bgr[1]);
   const float floor_r = static_cast<float>(scene_.floor.color_bgr[2]);
-  const float* texture = workspace_.texture_image.ptr<float>(v);
+  const float* texture = b->texture.data();
   for (int u = 0; u < static_cast<int>(b->blue.size()); ++u) {
     const float t = 1.0f + row.texture_scale * texture[u];
     b->blue[u] = floor_b * t;
@@ -286,7 +287,7 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   const int w = static_cast<int>(b->blue.size());
   const float* xs = floor_x_m_.ptr<float>(v);
   const float* ys = floor_y_m_.ptr<float>(v);
-  const float* texture = workspace_.texture_image.ptr<float>(v);
+  const float* texture = b->texture.data();
   std::vector<float>& alpha = b->alpha[i];
   std::fill(alpha.begin(), alpha.end(), 0.0f);
   bool strip_in_row = false;

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "common/body_twist.h"
@@ -10,6 +11,7 @@
 #include "perception/camera_model.h"
 #include "perception/floor_map.h"
 #include "pipeline/sim/floor_texture.h"
+#include "pipeline/sim/linear_upsampler.h"
 #include "pipeline/sim/scene.h"
 #include "pipeline/sim/tape_pieces.h"
 
@@ -63,9 +65,11 @@ class FrameRenderer {
   // Per row: the largest floor distance between neighbouring pixels, metres.
   std::vector<float> row_step_m_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
-    cv::Mat texture_small, texture_image, planes[3];
+    cv::Mat texture_small, planes[3];
   };
   mutable Workspace workspace_;
+  // texture_small enlarged to the frame, a row at a time (cv::resize's values).
+  mutable std::optional<LinearUpsampler> texture_upsampler_;
 
   // Built once, in the constructor.
   void make_tag_patterns();
@@ -82,7 +86,7 @@ class FrameRenderer {
   // `count` poses spread over the exposure, centred on `pose`.
   std::vector<SubPose> sub_poses(const Pose2& pose, const BodyTwist& twist, int count,
                                  bool with_pieces) const;
-  // The floor texture over the exposure, into workspace_.texture_image.
+  // The floor texture over the exposure, into workspace_.texture_small (half resolution).
   void render_texture(const std::vector<SubPose>& texture_poses) const;
   // What every row of a frame shares, and the buffers one row is drawn in.
   struct RowContext {
@@ -96,15 +100,16 @@ class FrameRenderer {
     RowBuffers(int width, int strips)
         : distance(width),
           coverage(width),
+          texture(width),
           blue(width),
           green(width),
           red(width),
           alpha(strips, std::vector<float>(width)) {}
-    std::vector<float> distance, coverage, blue, green, red;
+    std::vector<float> distance, coverage, texture, blue, green, red;
     std::vector<float> coarse_distance;     // at coarse_x_m_, coarse_y_m_
     std::vector<std::vector<float>> alpha;  // per strip: coverage summed over the exposure
   };
-  void shade_floor_row(int v, const RowContext& row, RowBuffers* buffers) const;
+  void shade_floor_row(const RowContext& row, RowBuffers* buffers) const;
   void draw_tape_in_row(int v, int strip, const RowContext& row, RowBuffers* buffers) const;
   void wear_tape_in_row(int v, int strip, const Pose2& pose, std::vector<float>* alpha) const;
   void expose_row(int v, const RowContext& row, const RowBuffers& buffers) const;
