@@ -44,15 +44,17 @@ cv::Mat make_tile(double texel_m, double feature_size_m, std::uint64_t seed) {
   return (tile - mean[0]) / std::max(stddev[0], 1e-12);
 }
 
-// The tile's texels in blocks of `block` x `block`, block after block along the tile's rows,
-// each block row-major (FloorTexture::texel's order).
+// The tile's texels in blocks of `block` x `block` with a one-texel apron (FloorTexture::index's
+// order): block after block along the tile's rows, each (block + 1) x (block + 1), row-major.
 cv::Mat blocked(const cv::Mat& tile, int block) {
-  cv::Mat out(1, tile.rows * tile.cols, CV_32F);
+  const int pitch = block + 1;
+  cv::Mat out(1, (tile.rows / block) * (tile.cols / block) * pitch * pitch, CV_32F);
   float* next = out.ptr<float>();
   for (int by = 0; by < tile.rows; by += block)
     for (int bx = 0; bx < tile.cols; bx += block)
-      for (int y = by; y < by + block; ++y)
-        for (int x = bx; x < bx + block; ++x) *next++ = tile.at<float>(y, x);
+      for (int y = by; y < by + pitch; ++y)
+        for (int x = bx; x < bx + pitch; ++x)
+          *next++ = tile.at<float>(y % tile.rows, x % tile.cols);
   return out;
 }
 

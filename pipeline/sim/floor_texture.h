@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <opencv2/core.hpp>
 
@@ -29,10 +30,14 @@ class FloorTexture {
 
  private:
   static constexpr int kMask = kTileTexels - 1;
-  // The tile is stored in blocks of kBlock x kBlock texels, block after block, each row-major:
-  // a view crossing the tile's rows at any angle then reads a few cache lines per block (stored
-  // row after row, a view across its 4 KiB rows missed the cache at every sample).
+  // The tile is stored in blocks of kBlock x kBlock texels, block after block along the tile's
+  // rows, each row-major with an apron: the next block's first column and row (wrapping at the
+  // tile's edges) repeated, so that a texel's right, lower and diagonal neighbours lie at fixed
+  // offsets (+1, +kPitch, +kPitch + 1). A view crossing the tile's rows at any angle reads a few
+  // cache lines per block (stored row after row, a view across its 4 KiB rows missed the cache
+  // at every sample).
   static constexpr int kBlockBits = 3, kBlock = 1 << kBlockBits, kBlockMask = kBlock - 1;
+  static constexpr int kPitch = kBlock + 1, kBlockFloats = kPitch * kPitch;
   static constexpr int kBlocksPerRowBits = 10 - kBlockBits;
   static_assert(kTileTexels == 1 << 10);
 
@@ -41,22 +46,22 @@ class FloorTexture {
   [[gnu::always_inline]] static float bilinear(const float* blocks, float u, float v) {
     const float fu = std::floor(u), fv = std::floor(v);
     const float au = u - fu, av = v - fv;
-    const int iu = static_cast<int>(fu) & kMask, iv = static_cast<int>(fv) & kMask;
-    const int iu1 = (iu + 1) & kMask, iv1 = (iv + 1) & kMask;
-    const float t00 = blocks[index(iu, iv)], t10 = blocks[index(iu1, iv)];
-    const float t01 = blocks[index(iu, iv1)], t11 = blocks[index(iu1, iv1)];
+    // Indices into `blocks` (not a pointer per sample): the form GCC turns into vector gathers.
+    const int i = index(static_cast<int>(fu) & kMask, static_cast<int>(fv) & kMask);
+    const float t00 = blocks[i], t10 = blocks[i + 1];
+    const float t01 = blocks[i + kPitch], t11 = blocks[i + kPitch + 1];
     const float top = t00 + au * (t10 - t00);
     const float bottom = t01 + au * (t11 - t01);
     return top + av * (bottom - top);
   }
   [[gnu::always_inline]] static int index(int iu, int iv) {
     const int block = ((iv >> kBlockBits) << kBlocksPerRowBits) | (iu >> kBlockBits);
-    return (block << (2 * kBlockBits)) | ((iv & kBlockMask) << kBlockBits) | (iu & kBlockMask);
+    return block * kBlockFloats + (iv & kBlockMask) * kPitch + (iu & kBlockMask);
   }
 
   double texel_m_;
   float inverse_texel_m_;
-  cv::Mat blocked_;                // CV_32F, 1 x kTileTexels^2, in the block order above
+  cv::Mat blocked_;                // CV_32F, the blocks above, one row
   const float* blocks_ = nullptr;  // blocked_'s data
 };
 
