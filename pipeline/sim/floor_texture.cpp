@@ -81,4 +81,13 @@ void FloorTexture::add_samples(const float* __restrict xs, const float* __restri
   }
 }
 
+AGV_VECTOR_CLONES
+void FloorTexture::samples(const float* __restrict xs, const float* __restrict ys, int count,
+                           float* __restrict out) const {
+  const float* __restrict blocks = blocks_;
+  const float inverse_texel_m = inverse_texel_m_;
+  for (int k = 0; k < count; ++k)
+    out[k] = bilinear(blocks, xs[k] * inverse_texel_m, ys[k] * inverse_texel_m);
+}
+
 }  // namespace agv::pipeline

@@ -354,7 +354,7 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
     drawn_last = std::max(drawn_last, pose_last);
   }
   if (!strip_in_row) return;
-  if (tape.wear > 0.0) wear_tape_in_row(v, i, *row.pose, &alpha);
+  if (tape.wear > 0.0) wear_tape_in_row(v, i, *row.pose, drawn_first, drawn_last, b);
   const float tape_b = static_cast<float>(tape.color_bgr[0]);
   const float tape_g = static_cast<float>(tape.color_bgr[1]);
   const float tape_r = static_cast<float>(tape.color_bgr[2]);
@@ -378,21 +378,33 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   }
 }
 
-// Worn patches of strip i show the floor through the tape (world-fixed, 1-20 mm across).
-void FrameRenderer::wear_tape_in_row(int v, int i, const Pose2& pose,
-                                     std::vector<float>* alpha) const {
-  const float* xs = floor_x_m_.ptr<float>(v);
-  const float* ys = floor_y_m_.ptr<float>(v);
+// Worn patches of strip i show the floor through the tape (world-fixed, 1-20 mm across), over
+// columns [first, last] (the tape's coverage is 0 elsewhere, and stays 0 under any factor).
+AGV_VECTOR_CLONES
+void FrameRenderer::wear_tape_in_row(int v, int i, const Pose2& pose, int first, int last,
+                                     RowBuffers* b) const {
+  const int count = last - first + 1;
+  const float* __restrict xs = floor_x_m_.ptr<float>(v) + first;
+  const float* __restrict ys = floor_y_m_.ptr<float>(v) + first;
   const float centre_c = static_cast<float>(std::cos(pose.yaw_rad)),
               centre_s = static_cast<float>(std::sin(pose.yaw_rad));
   const float centre_tx = static_cast<float>(pose.x_m), centre_ty = static_cast<float>(pose.y_m);
-  for (int u = 0; u < static_cast<int>(alpha->size()); ++u) {
-    if ((*alpha)[u] <= 0.0f) continue;
-    const float wx = centre_c * xs[u] - centre_s * ys[u] + centre_tx;
-    const float wy = centre_s * xs[u] + centre_c * ys[u] + centre_ty;
-    const float t = texture_.sample(2.3f * wx + 13.1f, 2.3f * wy - 7.3f);
-    (*alpha)[u] *= std::clamp(1.0f - (t - wear_level_[i]) / 0.4f, 0.0f, 1.0f);
+  // The wear pattern: a second, finer field of the floor texture, at world points scaled and
+  // shifted (computed apart so that the texture lookups run as one batch).
+  float* __restrict pattern_x = b->wear_x.data();
+  float* __restrict pattern_y = b->wear_y.data();
+  for (int k = 0; k < count; ++k) {
+    const float wx = centre_c * xs[k] - centre_s * ys[k] + centre_tx;
+    const float wy = centre_s * xs[k] + centre_c * ys[k] + centre_ty;
+    pattern_x[k] = 2.3f * wx + 13.1f;
+    pattern_y[k] = 2.3f * wy - 7.3f;
   }
+  float* __restrict level = b->wear_level.data();
+  texture_.samples(pattern_x, pattern_y, count, level);
+  float* __restrict alpha = b->alpha[i].data() + first;
+  const float wear_level = wear_level_[i];
+  for (int k = 0; k < count; ++k)
+    alpha[k] *= std::min(std::max(1.0f - (level[k] - wear_level) / 0.4f, 0.0f), 1.0f);
 }
 
 // The camera over row v: vignetting and illumination gain, glare, sensor noise, 8-bit output

@@ -104,14 +104,19 @@ class FrameRenderer {
           blue(width),
           green(width),
           red(width),
+          wear_x(width),
+          wear_y(width),
+          wear_level(width),
           alpha(strips, std::vector<float>(width)) {}
     std::vector<float> distance, coverage, texture, blue, green, red;
+    std::vector<float> wear_x, wear_y, wear_level;  // worn tape: its pattern's points, levels
     std::vector<float> coarse_distance;     // at coarse_x_m_, coarse_y_m_
     std::vector<std::vector<float>> alpha;  // per strip: coverage summed over the exposure
   };
   void shade_floor_row(const RowContext& row, RowBuffers* buffers) const;
   void draw_tape_in_row(int v, int strip, const RowContext& row, RowBuffers* buffers) const;
-  void wear_tape_in_row(int v, int strip, const Pose2& pose, std::vector<float>* alpha) const;
+  void wear_tape_in_row(int v, int strip, const Pose2& pose, int first, int last,
+                        RowBuffers* buffers) const;
   void expose_row(int v, const RowContext& row, const RowBuffers& buffers) const;
 };
 

@@ -35,7 +35,7 @@ TEST(FloorTexture, IsContinuousAcrossEveryTexelBlockAndTheWrap) {
   }
 }
 
-TEST(FloorTexture, RepeatsEveryTileAndAddsTheSameSamplesInABatch) {
+TEST(FloorTexture, RepeatsEveryTileAndGivesTheSameSamplesInABatch) {
   const FloorTexture texture(kTexel_m, 0.002, 3);
   std::vector<float> xs, ys;
   for (int k = 0; k < 300; ++k) {
@@ -48,10 +48,13 @@ TEST(FloorTexture, RepeatsEveryTileAndAddsTheSameSamplesInABatch) {
   std::vector<float> batch(xs.size(), 1.0f);
   texture.add_samples(xs.data(), ys.data(), static_cast<int>(xs.size()), c, s, tx, ty,
                       batch.data());
+  std::vector<float> plain(xs.size());
+  texture.samples(xs.data(), ys.data(), static_cast<int>(xs.size()), plain.data());
   for (size_t k = 0; k < xs.size(); ++k) {
     const float wx = c * xs[k] - s * ys[k] + tx, wy = s * xs[k] + c * ys[k] + ty;
     // Bit for bit: the renderer's frames must not depend on which of the two it calls.
     EXPECT_EQ(batch[k], 1.0f + texture.sample(wx, wy)) << k;
+    EXPECT_EQ(plain[k], texture.sample(xs[k], ys[k])) << k;
     // One tile further along either axis: the same texels (exact where the shifted position
     // rounds to the same fraction of a texel; within float rounding of a metre otherwise).
     EXPECT_NEAR(texture.sample(wx + static_cast<float>(kTile_m), wy), texture.sample(wx, wy), 1e-3);
