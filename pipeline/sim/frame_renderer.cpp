@@ -240,7 +240,10 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   const int texture_samples =
       std::clamp(static_cast<int>(std::ceil(blur_px / 3.0)), 1, tape_samples);
   const std::vector<SubPose> tape_poses = sub_poses(pose, twist, tape_samples, true);
-  render_texture(sub_poses(pose, twist, texture_samples, false));
+  // A floor without texture contrast shows none, on the tape either (its contrast is relative to
+  // the floor's): the texture is left at 0, which is what it then adds.
+  const bool textured = scene_.floor.texture_contrast != 0.0;
+  if (textured) render_texture(sub_poses(pose, twist, texture_samples, false));
 
   RowContext row;
   row.pose = &pose;
@@ -254,7 +257,7 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   cv::Mat* planes = workspace_.planes;
   for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
   for (int v = 0; v < h; ++v) {
-    texture_upsampler_->row(workspace_.texture_small, v, buffers.texture.data());
+    if (textured) texture_upsampler_->row(workspace_.texture_small, v, buffers.texture.data());
     shade_floor_row(row, &buffers);
     for (int i = 0; i < static_cast<int>(scene_.tapes.size()); ++i)
       draw_tape_in_row(v, i, row, &buffers);
