@@ -53,20 +53,19 @@ Scored score(const CurveModel& m, const std::vector<Observation>& obs, double th
   s.observation_inliers.assign(obs.size(), false);
   double sum = 0.0;
   const CurveModel::Prepared curve = m.prepared();
+  std::vector<double> magnitudes;  // of the inliers' residuals
+  magnitudes.reserve(obs.size());
   for (size_t i = 0; i < obs.size(); ++i) {
     const double r = residual(curve, obs[i]);
     if (std::abs(r) > threshold) continue;
     s.observation_inliers[i] = true;
     ++s.count;
     sum += r * r;
+    magnitudes.push_back(std::abs(r));
   }
   s.plain_rms = s.count ? std::sqrt(sum / s.count) : 0.0;
   // A robust scale: 1.4826 x the median absolute residual of the inliers (inliers within a
   // generous band still include some far edges of merged chords).
-  std::vector<double> magnitudes;
-  for (size_t i = 0; i < obs.size(); ++i) {
-    if (s.observation_inliers[i]) magnitudes.push_back(std::abs(residual(curve, obs[i])));
-  }
   if (!magnitudes.empty()) {
     std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
                      magnitudes.end());
