@@ -38,6 +38,7 @@ FrameRenderer::FrameRenderer(const perception::CameraModel& camera, const Scene&
   make_gain_and_glare();
   make_tape_tables();
   make_noise_bank();
+  make_tag_reach();
 }
 
 void FrameRenderer::make_tag_patterns() {
@@ -435,6 +436,30 @@ void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b
   }
 }
 
+void FrameRenderer::make_tag_reach() {
+  if (tag_patterns_.empty()) return;
+  const int w = floor_x_m_.cols, h = floor_x_m_.rows;
+  tag_reach_extra_m_.assign(h, 0.0);
+  for (int v = 0; v < h; ++v) {
+    const float* xs = floor_x_m_.ptr<float>(v);
+    const float* ys = floor_y_m_.ptr<float>(v);
+    const float* xs_up = floor_x_m_.ptr<float>(std::max(0, v - 1));
+    const float* ys_up = floor_y_m_.ptr<float>(std::max(0, v - 1));
+    const float* xs_down = floor_x_m_.ptr<float>(std::min(h - 1, v + 1));
+    const float* ys_down = floor_y_m_.ptr<float>(std::min(h - 1, v + 1));
+    const double row_span = (v > 0 && v + 1 < h) ? 0.5 : 1.0;
+    for (int u = 0; u < w; ++u) {
+      const int ul = std::max(0, u - 1), ur = std::min(w - 1, u + 1);
+      const double col_span = (ur - ul == 2) ? 0.5 : 1.0;
+      const double extra = std::abs((xs[ur] - xs[ul]) * col_span) +
+                           std::abs((ys[ur] - ys[ul]) * col_span) +
+                           std::abs((xs_down[u] - xs_up[u]) * row_span) +
+                           std::abs((ys_down[u] - ys_up[u]) * row_span);
+      tag_reach_extra_m_[v] = std::max(tag_reach_extra_m_[v], extra);
+    }
+  }
+}
+
 void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green,
                                      float* red) const {
   // Printed paper: black ink and white paper levels (before the camera's gain).
@@ -449,7 +474,29 @@ void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, floa
   const float* ys_down = floor_y_m_.ptr<float>(std::min(h - 1, v + 1));
   const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
   const double row_span = (v > 0 && v + 1 < h) ? 0.5 : 1.0;
+  // Columns that a tag may reach: a pixel whose floor point lies further than reach * sqrt(2)
+  // from a tag's centre fails the test below. Between two coarse points the distance to a centre
+  // falls by at most half their floor separation below the mean of theirs (it is 1-Lipschitz),
+  // as for the tape; the margin covers rounding. The same image as testing every pixel.
+  std::vector<char> near_tag(w, 0);
+  const float* coarse_x = coarse_x_m_.ptr<float>(v);
+  const float* coarse_y = coarse_y_m_.ptr<float>(v);
+  const int coarse = coarse_x_m_.cols;
+  const double half_span_m = 0.5 * kCoarseStep * row_step_m_[v];
+  for (const TagPattern& tag : tag_patterns_) {
+    const Eigen::Vector2d centre = pose.inverse().transform({tag.x_m, tag.y_m});
+    const double far_m = std::sqrt(2.0) * (tag.half_extent_m + tag_reach_extra_m_[v]) + 1e-6;
+    const auto distance = [&](int k) {
+      return std::hypot(coarse_x[k] - centre.x(), coarse_y[k] - centre.y());
+    };
+    for (int k = 0; k + 1 < coarse; ++k) {
+      if (0.5 * (distance(k) + distance(k + 1)) - half_span_m > far_m) continue;
+      const int first = k * kCoarseStep, last = std::min((k + 1) * kCoarseStep, w - 1);
+      std::fill(near_tag.begin() + first, near_tag.begin() + last + 1, 1);
+    }
+  }
   for (int u = 0; u < w; ++u) {
+    if (!near_tag[u]) continue;
     if (xs[u] == 0.0f && ys[u] == 0.0f) continue;  // no floor seen
     const int ul = std::max(0, u - 1), ur = std::min(w - 1, u + 1);
     const double col_span = (ur - ul == 2) ? 0.5 : 1.0;

@@ -54,6 +54,8 @@ class FrameRenderer {
     double x_m = 0.0, y_m = 0.0, cos_yaw = 1.0, sin_yaw = 0.0;
   };
   std::vector<TagPattern> tag_patterns_;
+  // Per row: the most a pixel's footprint adds to a tag's reach (draw_tags_in_row's test).
+  std::vector<double> tag_reach_extra_m_;
   // Tags drawn into one row of colour buffers (no motion blur: tags serve static calibration).
   void draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green, float* red) const;
   std::vector<cv::Mat> inverse_ramp_;  // CV_32F per strip: 1 / edge ramp width at each pixel
@@ -77,6 +79,7 @@ class FrameRenderer {
   void make_gain_and_glare();
   void make_tape_tables();
   void make_noise_bank();
+  void make_tag_reach();
 
   // One pose within the exposure, with the tape pieces it can see (vehicle frame).
   struct SubPose {
