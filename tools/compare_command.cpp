@@ -205,7 +205,9 @@ void add_compare_command(CLI::App& app, CompareArgs& args) {
   sub->add_option("--suite", args.suite_file, "Suite YAML (default: the built-in default suite)");
   sub->add_option("--out", args.out_dir, "Output folder (default: runs/<date-time>)");
   sub->add_flag("--force", args.force, "Replace an existing output folder (a previous result)");
-  sub->add_option("--jobs", args.jobs, "Runs in parallel (default: one per processor)")
+  sub->add_option("--jobs", args.jobs,
+                  "Runs in parallel (default: one per processor; threaded runs, which mostly "
+                  "wait for their clocks, 1.5 times as many, at most 1.5 per processor)")
       ->check(CLI::Range(1, 256));
   sub->add_option("--seed", args.seed,
                   "Seed of every run's noise and texture (default: the suite's)")
