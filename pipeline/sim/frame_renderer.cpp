@@ -436,26 +436,26 @@ void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b
   }
 }
 
+FrameRenderer::PixelSteps FrameRenderer::pixel_steps(int u, int v) const {
+  const int w = floor_x_m_.cols, h = floor_x_m_.rows;
+  const int left = std::max(0, u - 1), right = std::min(w - 1, u + 1);
+  const int up = std::max(0, v - 1), down = std::min(h - 1, v + 1);
+  const double col_span = right - left == 2 ? 0.5 : 1.0, row_span = down - up == 2 ? 0.5 : 1.0;
+  const auto x = [&](int row, int col) { return floor_x_m_.at<float>(row, col); };
+  const auto y = [&](int row, int col) { return floor_y_m_.at<float>(row, col); };
+  return {(x(v, right) - x(v, left)) * col_span, (y(v, right) - y(v, left)) * col_span,
+          (x(down, u) - x(up, u)) * row_span, (y(down, u) - y(up, u)) * row_span};
+}
+
 void FrameRenderer::make_tag_reach() {
   if (tag_patterns_.empty()) return;
   const int w = floor_x_m_.cols, h = floor_x_m_.rows;
   tag_reach_extra_m_.assign(h, 0.0);
   for (int v = 0; v < h; ++v) {
-    const float* xs = floor_x_m_.ptr<float>(v);
-    const float* ys = floor_y_m_.ptr<float>(v);
-    const float* xs_up = floor_x_m_.ptr<float>(std::max(0, v - 1));
-    const float* ys_up = floor_y_m_.ptr<float>(std::max(0, v - 1));
-    const float* xs_down = floor_x_m_.ptr<float>(std::min(h - 1, v + 1));
-    const float* ys_down = floor_y_m_.ptr<float>(std::min(h - 1, v + 1));
-    const double row_span = (v > 0 && v + 1 < h) ? 0.5 : 1.0;
     for (int u = 0; u < w; ++u) {
-      const int ul = std::max(0, u - 1), ur = std::min(w - 1, u + 1);
-      const double col_span = (ur - ul == 2) ? 0.5 : 1.0;
-      const double extra = std::abs((xs[ur] - xs[ul]) * col_span) +
-                           std::abs((ys[ur] - ys[ul]) * col_span) +
-                           std::abs((xs_down[u] - xs_up[u]) * row_span) +
-                           std::abs((ys_down[u] - ys_up[u]) * row_span);
-      tag_reach_extra_m_[v] = std::max(tag_reach_extra_m_[v], extra);
+      const PixelSteps p = pixel_steps(u, v);
+      tag_reach_extra_m_[v] = std::max(
+          tag_reach_extra_m_[v], std::abs(p.ux) + std::abs(p.uy) + std::abs(p.vx) + std::abs(p.vy));
     }
   }
 }
@@ -465,15 +465,10 @@ void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, floa
   // Printed paper: black ink and white paper levels (before the camera's gain).
   constexpr float kBlack = 20.0f, kWhite = 230.0f;
   constexpr int kSub = 4;  // 4 x 4 samples per pixel: edges land at sub-pixel accuracy
-  const int w = floor_x_m_.cols, h = floor_x_m_.rows;
+  const int w = floor_x_m_.cols;
   const float* xs = floor_x_m_.ptr<float>(v);
   const float* ys = floor_y_m_.ptr<float>(v);
-  const float* xs_up = floor_x_m_.ptr<float>(std::max(0, v - 1));
-  const float* ys_up = floor_y_m_.ptr<float>(std::max(0, v - 1));
-  const float* xs_down = floor_x_m_.ptr<float>(std::min(h - 1, v + 1));
-  const float* ys_down = floor_y_m_.ptr<float>(std::min(h - 1, v + 1));
   const double c = std::cos(pose.yaw_rad), s = std::sin(pose.yaw_rad);
-  const double row_span = (v > 0 && v + 1 < h) ? 0.5 : 1.0;
   // Columns that a tag may reach: a pixel whose floor point lies further than reach * sqrt(2)
   // from a tag's centre fails the test below. Between two coarse points the distance to a centre
   // falls by at most half their floor separation below the mean of theirs (it is 1-Lipschitz),
@@ -498,12 +493,9 @@ void FrameRenderer::draw_tags_in_row(int v, const Pose2& pose, float* blue, floa
   for (int u = 0; u < w; ++u) {
     if (!near_tag[u]) continue;
     if (xs[u] == 0.0f && ys[u] == 0.0f) continue;  // no floor seen
-    const int ul = std::max(0, u - 1), ur = std::min(w - 1, u + 1);
-    const double col_span = (ur - ul == 2) ? 0.5 : 1.0;
     // The pixel's footprint on the floor (vehicle frame): centre and the steps of one pixel.
     const double px = xs[u], py = ys[u];
-    const double ux = (xs[ur] - xs[ul]) * col_span, uy = (ys[ur] - ys[ul]) * col_span;
-    const double vx = (xs_down[u] - xs_up[u]) * row_span, vy = (ys_down[u] - ys_up[u]) * row_span;
+    const auto [ux, uy, vx, vy] = pixel_steps(u, v);
     for (const TagPattern& tag : tag_patterns_) {
       // Pixel centre in the tag's frame; skip pixels clearly off the tag.
       const double wx = c * px - s * py + pose.x_m - tag.x_m;

@@ -56,6 +56,12 @@ class FrameRenderer {
   std::vector<TagPattern> tag_patterns_;
   // Per row: the most a pixel's footprint adds to a tag's reach (draw_tags_in_row's test).
   std::vector<double> tag_reach_extra_m_;
+  // The floor steps of one pixel at (u, v), vehicle frame, metres: along the row (ux, uy) and
+  // down the column (vx, vy), central differences (one-sided at the image's edges).
+  struct PixelSteps {
+    double ux, uy, vx, vy;
+  };
+  PixelSteps pixel_steps(int u, int v) const;
   // Tags drawn into one row of colour buffers (no motion blur: tags serve static calibration).
   void draw_tags_in_row(int v, const Pose2& pose, float* blue, float* green, float* red) const;
   std::vector<cv::Mat> inverse_ramp_;  // CV_32F per strip: 1 / edge ramp width at each pixel
