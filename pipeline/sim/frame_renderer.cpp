@@ -207,7 +207,6 @@ std::vector<FrameRenderer::SubPose> FrameRenderer::sub_poses(const Pose2& pose,
   return poses;
 }
 
-AGV_VECTOR_CLONES
 void FrameRenderer::render_texture(const std::vector<SubPose>& texture_poses) const {
   cv::Mat& texture_small = workspace_.texture_small;
   texture_small.create(texture_x_m_.size(), CV_32F);
@@ -269,7 +268,7 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   cv::merge(planes, 3, *frame);
 }
 
-// The floor's colour along row v, with its texture.
+// The floor's colour along the row, with its texture (b->texture).
 AGV_VECTOR_CLONES
 void FrameRenderer::shade_floor_row(const RowContext& row, RowBuffers* b) const {
   const float floor_b = static_cast<float>(scene_.floor.color_bgr[0]);
