@@ -2,6 +2,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "common/line_measurement.h"
 #include "perception/floor_odometry.h"
@@ -57,6 +58,11 @@ class ImagePerceiver : public Perceiver {
   }
   perception::TrackingLineEstimator::Counts counts() const override { return estimator_.counts(); }
   std::string odometry_source() const override;
+  // The centre-line points the path memory holds, in the vehicle frame of the last frame (none
+  // without a path memory).
+  std::vector<Eigen::Vector2d> remembered_tape() const {
+    return memory_ ? memory_->points_in_vehicle_frame() : std::vector<Eigen::Vector2d>{};
+  }
 
  private:
   // The frame's odometry pose: the wheels', else integrated from the motion read from the

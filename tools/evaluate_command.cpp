@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 
 #include "common/angles.h"
 #include "common/input_error.h"
@@ -15,6 +16,7 @@
 #include "tools/build_info.h"
 #include "tools/peak_memory.h"
 #include "tools/progress_bar.h"
+#include "tools/top_view_plots.h"
 
 namespace agv::tools {
 
@@ -69,7 +71,8 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       "--save-failures", args.save_failures,
       "Write annotated frames that were missed, off by more than 1 mm / 0.5 deg, or gave a line "
       "without tape, to this folder (at most 60; the sequences' in sequences/ there, at most 5 a "
-      "sequence, 60 with --only-sequence)");
+      "sequence, 60 with --only-sequence, each with a top view of what the path memory held: "
+      "NAME_top.png, its points in NAME_top.csv)");
   sub->add_flag("--json", args.json, "Print the summary as JSON");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
@@ -167,6 +170,14 @@ int run_evaluate(const EvaluateArgs& args) {
     ProgressBar bar("driving sequences", !args.quiet);
     sequences =
         pipeline::run_sequence_benchmark(sequence_options, [&](double f) { bar.update(f); });
+    // A top view of what the path memory held at each failed frame saved, beside its picture.
+    if (!sequence_options.save_failures_dir.empty()) {
+      try {
+        plot_top_views(sequence_options.save_failures_dir);
+      } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "agv evaluate: no top views: %s\n", e.what());
+      }
+    }
   }
   nlohmann::json j = result.summary;
   if (!sequences.frames.empty()) j["sequences"] = sequences.summary;

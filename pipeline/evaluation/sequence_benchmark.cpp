@@ -16,6 +16,7 @@
 #include "perception/junction.h"
 #include "pipeline/evaluation/frame_annotation.h"
 #include "pipeline/evaluation/random_conditions.h"
+#include "pipeline/evaluation/top_view_table.h"
 #include "pipeline/perceiver.h"
 #include "pipeline/sim/frame_renderer.h"
 #include "pipeline/sim/wheel_odometry.h"
@@ -206,6 +207,9 @@ void run_sequence(cv::RNG& rng, const SequenceBenchmarkOptions& options, int ind
                     f, r.piece.c_str(), s, 1e3 * r.error_e_d_m, rad_to_deg(r.error_e_theta_rad));
       cv::imwrite(options.save_failures_dir + name,
                   annotate_frame(frame.image, camera.camera, detection, m, caption));
+      std::snprintf(name, sizeof(name), "/sequence%03d_frame%03d_top.csv", index, f);
+      write_top_view_table(options.save_failures_dir + name, pose, perceiver.remembered_tape(),
+                           detection, scene.tapes);
       ++saved_here;
       ++*saved;
     }
