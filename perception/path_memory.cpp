@@ -789,13 +789,14 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   return m;
 }
 
-bool PathMemory::turns_out_of_view(const LineDetection& detection) {
-  // The followed tape's direction where its evidence ends farthest along the travel direction.
+bool PathMemory::turns_out_of_view(const LineDetection& detection) const {
+  // The followed tape's direction where its evidence ends farthest along the travel direction,
+  // carried on by the lookahead with the curvature there.
   const DetectedLine& line = detection.lines[detection.followed];
   const CurveModel& travel = detection.followed_model;
   const double s_end = std::max(travel.arc_position(line.model.point_at(line.s_min_m)),
                                 travel.arc_position(line.model.point_at(line.s_max_m)));
-  const Eigen::Vector2d t = travel.tangent_at(s_end);
+  const Eigen::Vector2d t = travel.tangent_at(s_end + options_.corner_lookahead_m);
   return std::abs(std::atan2(t.y(), t.x())) > M_PI / 4.0;
 }
 

@@ -59,6 +59,13 @@ struct PathMemoryOptions {
   // origin: that arc carried forward, for at most carry_forward_m.
   double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
   double carry_forward_m = 0.2;
+  // Past a corner the camera loses the tape before the vehicle reaches it: it counts as passed
+  // (the remembered tape then gives the errors with no line in view) when the tape last seen
+  // turns by more than 45 deg from the vehicle's heading where its evidence ends, or would this
+  // much further on at the curvature there. A corner of R 0.27 m turning 113 deg left a 0.1 m
+  // deep view at 34 deg (agv evaluate seed 5, sequence 8: 80.7 % of its frames found without
+  // the lookahead, 88.7 % with; seeds 1-8 99.08 -> 99.23 %, their RMS unchanged).
+  double corner_lookahead_m = 0.1;
   // A frame whose line perception refused still shows the tape where it is remembered when at
   // least min_points of its chords have their centres this near remembered centre-line points,
   // spread over this much of the view.
@@ -169,8 +176,9 @@ class PathMemory {
   bool tape_seen_where_remembered(const LineDetection& detection,
                                   const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Whether the followed tape turns away by more than 45 deg from the vehicle's heading where
-  // its evidence ends farthest ahead (a corner the camera is passing).
-  static bool turns_out_of_view(const LineDetection& detection);
+  // its evidence ends farthest ahead, or corner_lookahead_m beyond (a corner the camera is
+  // passing).
+  bool turns_out_of_view(const LineDetection& detection) const;
   // Keeps the tape's direction under the vehicle (memory frame) from a measurement at the origin,
   // and the course there.
   void remember_heading(const LineMeasurement& m);
