@@ -766,11 +766,19 @@ void PathMemory::remember_heading(const LineMeasurement& m) {
                         odometer_m_};
 }
 
-std::optional<LineMeasurement> PathMemory::carried_forward(
-    const LineMeasurement& carried_back) const {
+std::optional<LineMeasurement> PathMemory::course_carried_on(const LineMeasurement& m) const {
   if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.carry_forward_m ||
       std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
     return std::nullopt;
+  LineMeasurement carried = with_model(m, last_course_now());
+  carried.extrapolated = true;
+  return carried;
+}
+
+std::optional<LineMeasurement> PathMemory::carried_forward(
+    const LineMeasurement& carried_back) const {
+  std::optional<LineMeasurement> carried = course_carried_on(carried_back);
+  if (!carried) return std::nullopt;
   const CurveModel course = last_course_now();
   // The line in view continues the course where it passes through the course's last foot point
   // (within a tape width), whichever way it turns there (the vehicle may have left an arc for the
@@ -784,9 +792,7 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   if (std::abs(in_view.signed_distance(last_foot)) <= width_m ||
       std::abs(in_view.signed_distance(course.foot_point())) <= 0.5 * width_m)
     return std::nullopt;
-  LineMeasurement m = with_model(carried_back, course);
-  m.extrapolated = true;
-  return m;
+  return carried;
 }
 
 bool PathMemory::turns_out_of_view(const LineDetection& detection) const {
@@ -836,13 +842,27 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
   // No line in view. The remembered tape under the vehicle, while it reaches both sides of the
   // origin, where the camera (ahead of the vehicle) has passed a corner (the tape last seen
   // turned out of the view by more than 45 deg), or where the frame still shows the tape where
-  // it is remembered (perception refused the line: a floor texture, glare). Otherwise (a
-  // covered lens, a gap, the tape's end) the line is lost.
+  // it is remembered (perception refused the line: a floor texture, glare); past a corner, beyond
+  // the tape remembered, the corner's arc carried on (course_carried_on). Otherwise (a covered
+  // lens, a gap, the tape's end) the line is lost.
   if (!tape_heading_rad_ || !last_course_ || points_.empty()) return in_view;
   const bool past_corner = turns_out_of_view_;
   const std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
   if (!past_corner && !tape_seen_where_remembered(detection, in_vehicle)) return in_view;
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
+  if (!m && past_corner) {
+    // Past the tape remembered, still in the corner: its arc carried on (the only way out of an
+    // L corner) for a while, the heading kept for the frames after.
+    std::optional<LineMeasurement> carried = course_carried_on(in_view);
+    if (carried) {
+      carried->line_found = true;
+      carried->remembered_only = true;
+      carried->lines_seen = 0;
+      carried->confidence = 0.25;  // neither evidence nor remembered tape
+      carried->points_used = 0;
+      return *carried;
+    }
+  }
   if (!m) {
     tape_heading_rad_.reset();
     return in_view;
