@@ -185,6 +185,9 @@ class EvidenceIndex {
   std::vector<bool> computed_;
 };
 
+// Tolerances that scale with the tape's width use at least this width (narrower tapes).
+constexpr double kNarrowTape_m = 0.01;
+
 // `in_view` with its errors and curvature from the remembered tape's model at the origin.
 LineMeasurement with_model(const LineMeasurement& in_view, const CurveModel& model) {
   LineMeasurement m = in_view;
@@ -355,8 +358,17 @@ std::optional<LineMeasurement> PathMemory::at_origin(
         options_.max_turn_rad + options_.max_curvature_1_m * driven_m)
       return std::nullopt;
   }
-  return with_model(in_view,
-                    curve_in_frame(frame_rad, fit->offset_m, fit->slope, fit->curvature_1_m));
+  const CurveModel fitted =
+      curve_in_frame(frame_rad, fit->offset_m, fit->slope, fit->curvature_1_m);
+  // Nor is one that puts the tape far across from both the line in view carried back and the
+  // course last measured carried forward (another stretch of the path beside the vehicle).
+  const double tolerance_m = std::max(tape_width_m_, kNarrowTape_m) + options_.max_offset_jump_m;
+  const bool near_view =
+      in_view.line_found && std::abs(fitted.e_d_m - in_view.e_d_m) <= tolerance_m;
+  const bool near_course =
+      last_course_ && std::abs(fitted.e_d_m - last_course_now().e_d_m) <= tolerance_m;
+  if (last_course_ && !near_view && !near_course) return std::nullopt;
+  return with_model(in_view, fitted);
 }
 
 std::optional<LineMeasurement> PathMemory::across_gap(
@@ -466,6 +478,73 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   }
   // The chord frame in the vehicle frame is turned by frame_rad + chord_rad.
   return with_model(in_view, curve_in_frame(frame_rad + chord_rad, y, slope, second));
+}
+
+std::optional<LineMeasurement> PathMemory::from_tape_ahead(
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
+  // Not in the memory's warm-up (there the line in view carried back is what the memory has).
+  if (!last_course_) return std::nullopt;
+  // In a frame along the line in view's direction at the origin (then turned by the fit's slope,
+  // up to twice, as at_origin does): the remembered tape nearest ahead of the origin.
+  double frame_rad = -in_view.e_theta_rad;
+  std::optional<JoinedArcs> fit;
+  double kept = 0.0;  // the fraction of the points the fit kept (the rest: another tape)
+  JoinedArcsOptions one_piece;
+  one_piece.both_sides = false;
+  one_piece.joint = false;
+  for (int pass = 0;; ++pass) {
+    const Turn to_frame(-frame_rad);
+    std::vector<Eigen::Vector2d> local;
+    double nearest_m = std::numeric_limits<double>::infinity();
+    int behind = 0;
+    for (const Eigen::Vector2d& p : in_vehicle) {
+      const Eigen::Vector2d q = to_frame(p);
+      if (q.x() <= 0.0 && q.x() >= -options_.window_m &&
+          std::abs(q.y()) <= options_.window_across_m)
+        ++behind;
+      if (q.x() <= 0.0 || q.x() > options_.ahead_max_gap_m + options_.ahead_span_m ||
+          std::abs(q.y()) > options_.window_across_m)
+        continue;
+      local.push_back(q);
+      nearest_m = std::min(nearest_m, q.x());
+    }
+    if (!(nearest_m <= options_.ahead_max_gap_m) || behind >= options_.side_points)
+      return std::nullopt;
+    local.erase(std::remove_if(local.begin(), local.end(),
+                               [&](const Eigen::Vector2d& q) {
+                                 return q.x() > nearest_m + options_.ahead_span_m;
+                               }),
+                local.end());
+    if (static_cast<int>(local.size()) < options_.min_points) return std::nullopt;
+    double far_m = nearest_m;
+    for (const Eigen::Vector2d& q : local) far_m = std::max(far_m, q.x());
+    if (far_m - nearest_m < 0.5 * options_.ahead_span_m) return std::nullopt;
+    fit = fit_joined_arcs(local, one_piece);
+    if (!fit) return std::nullopt;
+    kept = static_cast<double>(fit->points) / static_cast<double>(local.size());
+    if (std::abs(fit->slope) < 0.02 || pass == 2) break;
+    frame_rad += std::atan(fit->slope);
+  }
+  if (fit->rms_m > options_.ahead_max_rms_m || kept < options_.ahead_min_kept ||
+      fit->points < 3 * options_.min_points ||
+      std::abs(fit->curvature_1_m) > options_.max_curvature_1_m)
+    return std::nullopt;
+  const CurveModel fitted =
+      curve_in_frame(frame_rad, fit->offset_m, fit->slope, fit->curvature_1_m);
+  // The course last measured under the vehicle, carried forward, is surer than the tape ahead
+  // where they disagree by more than its curvature can explain over the distance driven since (a
+  // junction's other leg remembered; a fork's, beside the memory restarted).
+  const double driven_m = odometer_m_ - last_course_->odometer_m;
+  const CurveModel course = last_course_now();
+  const double turn_tolerance_rad =
+      options_.ahead_course_turn_rad + std::abs(last_course_->curvature_1_m) * driven_m;
+  if (std::abs(wrap_angle_rad(fitted.heading_rad - course.heading_rad)) > turn_tolerance_rad ||
+      std::abs(fitted.e_d_m - course.e_d_m) >
+          options_.ahead_course_offset_m + turn_tolerance_rad * driven_m)
+    return std::nullopt;
+  LineMeasurement m = with_model(in_view, fitted);
+  m.extrapolated = true;
+  return m;
 }
 
 void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
@@ -748,6 +827,13 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   }
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) m = across_gap(in_view, in_vehicle);
+  if (!m) {
+    // Not yet on remembered tape: what is remembered nearest ahead, carried back.
+    if (std::optional<LineMeasurement> ahead = from_tape_ahead(in_view, in_vehicle)) {
+      tape_heading_rad_.reset();
+      return *ahead;
+    }
+  }
   if (m) {
     add_preview(in_vehicle, &*m);
     remember_heading(*m);
@@ -787,7 +873,6 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   const CurveModel in_view{carried_back.e_d_m, -carried_back.e_theta_rad,
                            carried_back.curvature_1_m};
   const Eigen::Vector2d last_foot = vehicle_.inverse().transform(last_course_->foot_m);
-  constexpr double kNarrowTape_m = 0.01;  // the tolerance for narrower tapes
   const double width_m = std::max(tape_width_m_, kNarrowTape_m);
   if (std::abs(in_view.signed_distance(last_foot)) <= width_m ||
       std::abs(in_view.signed_distance(course.foot_point())) <= 0.5 * width_m)

@@ -266,6 +266,40 @@ TEST(PathMemory, ADriftTheOdometryKeepsMakingIsRemovedInFull) {
   EXPECT_LT(r.max_e_d_error_m, 1e-4);
 }
 
+// A straight tape of which one stretch (1.0-1.15 m along) was only ever seen as another tape
+// 70 mm to its right (perception followed that tape there: a leg of the path passing beside it),
+// so that the memory holds that tape, on both sides of the origin, where the vehicle's own is
+// missing. Exact odometry, 20 mm a frame; the line in view carried back 5 mm off the truth.
+double other_tape_beside_m(double s_m) { return s_m >= 1.0 && s_m <= 1.15 ? -0.07 : 0.0; }
+
+double worst_beside_another_tape_m(const PathMemoryOptions& options) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory(options);
+  double worst_m = 0.0;
+  for (int k = 0; k < 70; ++k) {
+    const double s = 0.02 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = 0.005;  // the truth is 0
+    const LineMeasurement m =
+        memory.update(in_view, seen_from(path, vehicle, s, other_tape_beside_m), vehicle);
+    EXPECT_TRUE(m.line_found);
+    worst_m = std::max(worst_m, std::abs(m.e_d_m));
+  }
+  return worst_m;
+}
+
+// The memory's reading there, 70 mm from both the line in view and the course last measured, is
+// refused: the line in view carried back instead (5 mm off); with any offset allowed
+// (max_offset_jump_m 1 m), the errors came from the other tape, tens of millimetres off.
+TEST(PathMemory, AnotherTapeRememberedBesideTheVehicleDoesNotGiveTheErrors) {
+  EXPECT_LE(worst_beside_another_tape_m({}), 0.006);
+  PathMemoryOptions any_offset;
+  any_offset.max_offset_jump_m = 1.0;
+  EXPECT_GE(worst_beside_another_tape_m(any_offset), 0.03);
+}
+
 // No odometry: nothing can be remembered; every frame is the line in view, flagged.
 TEST(PathMemory, WithoutOdometryEveryFrameIsExtrapolated) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
@@ -486,6 +520,7 @@ bool add_chord_in_window(const Pose2& to_vehicle, const Eigen::Vector2d& centre,
 struct WindowDrive {
   int frames = 0, lost = 0, extrapolated = 0;
   double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;  // frames with a line
+  int extrapolated_within_half_mm = 0;  // extrapolated frames within 0.5 mm of the truth
 };
 WindowDrive drive_window(const PathMemoryOptions& options) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0})
@@ -531,6 +566,8 @@ WindowDrive drive_window(const PathMemoryOptions& options) {
     }
     r.extrapolated += m.extrapolated ? 1 : 0;
     keep_worst(m, truth, &r.max_e_d_error_m, &r.max_e_theta_error_rad);
+    if (m.extrapolated && std::abs(m.e_d_m - truth.e_d_m) <= 0.0005)
+      ++r.extrapolated_within_half_mm;
   }
   return r;
 }
@@ -557,6 +594,24 @@ TEST(PathMemory, TapeNeverSeenPastACornerIsBridged) {
   by_frames.keep_travel_m = 1e9;
   const WindowDrive aged = drive_window(by_frames);
   EXPECT_GT(aged.extrapolated + aged.lost, 0);
+}
+
+// Not bridged (max_gap_m 0): once the corner's arc is more than window_m behind the vehicle, the
+// remembered tape under it starts only ahead of the origin, where the window saw the way out.
+// There the errors come from the remembered tape nearest ahead (straight: within 0.5 mm),
+// flagged extrapolated, rather than from the line in view carried back (5 mm off here): measured
+// 10 frames of 20 extrapolated (the others: still in the corner's window, or the tape ahead
+// starting further than ahead_max_gap_m); with that off (ahead_max_gap_m 0), none.
+TEST(PathMemory, WhereTheRememberedTapeStartsAheadItGivesTheErrors) {
+  PathMemoryOptions no_bridge;
+  no_bridge.max_gap_m = 0.0;
+  const WindowDrive r = drive_window(no_bridge);
+  EXPECT_EQ(r.lost, 0);
+  EXPECT_GE(r.extrapolated_within_half_mm, 8);
+
+  PathMemoryOptions carried_back = no_bridge;
+  carried_back.ahead_max_gap_m = 0.0;
+  EXPECT_EQ(drive_window(carried_back).extrapolated_within_half_mm, 0);
 }
 
 // Inside a sharp corner (R 0.14 m, 130 deg to the right) the camera's window looks past the arc
