@@ -482,9 +482,15 @@ LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& f
     return !pixel || pixel->x < border_px || pixel->y < border_px ||
            pixel->x > frame.cols - 1 - border_px || pixel->y > frame.rows - 1 - border_px;
   };
+  auto near_side = [&](const Eigen::Vector2d& p) {
+    const auto pixel = camera_.floor_to_pixel(p);
+    return pixel && (pixel->x < border_px || pixel->x > frame.cols - 1 - border_px);
+  };
   for (DetectedLine& line : d.lines) {
     line.open_start = near_border(line.model.point_at(line.s_min_m));
     line.open_end = near_border(line.model.point_at(line.s_max_m));
+    line.open_start_at_side = near_side(line.model.point_at(line.s_min_m));
+    line.open_end_at_side = near_side(line.model.point_at(line.s_max_m));
   }
   // A branch is a piece of tape leaving the junction by more than a tape width (less is the
   // overlap of a corner), or running out of view once clear of the crossing tape. The width is

@@ -30,6 +30,8 @@ struct DetectedLine {
   std::vector<int> clean_chords;  // of those, the ones with both edges on this tape
   bool open_start = false;        // the evidence runs into the image border at s_min / s_max:
   bool open_end = false;          // the tape goes on beyond what is seen
+  // ... into the image's left or right border there (the tape turns out of the view sideways)
+  bool open_start_at_side = false, open_end_at_side = false;
 };
 
 struct LineSetOptions {

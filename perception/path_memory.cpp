@@ -885,8 +885,12 @@ bool PathMemory::turns_out_of_view(const LineDetection& detection) const {
   // carried on by the lookahead with the curvature there.
   const DetectedLine& line = detection.lines[detection.followed];
   const CurveModel& travel = detection.followed_model;
-  const double s_end = std::max(travel.arc_position(line.model.point_at(line.s_min_m)),
-                                travel.arc_position(line.model.point_at(line.s_max_m)));
+  const double s_at_min = travel.arc_position(line.model.point_at(line.s_min_m));
+  const double s_at_max = travel.arc_position(line.model.point_at(line.s_max_m));
+  const double s_end = std::max(s_at_min, s_at_max);
+  // The far end of the evidence at the image's left or right border: the tape turned out of the
+  // view sideways (a low camera's narrow view on an arc of R 0.5 m).
+  if (s_at_max >= s_at_min ? line.open_end_at_side : line.open_start_at_side) return true;
   const Eigen::Vector2d t = travel.tangent_at(s_end + options_.corner_lookahead_m);
   return std::abs(std::atan2(t.y(), t.x())) > M_PI / 4.0;
 }

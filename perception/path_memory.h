@@ -207,7 +207,9 @@ class PathMemory {
                                   const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Whether the followed tape turns away by more than 45 deg from the vehicle's heading where
   // its evidence ends farthest ahead, or corner_lookahead_m beyond (a corner the camera is
-  // passing).
+  // passing), or its evidence ends there at the image's left or right border (an arc leaving a
+  // narrow view sideways: agv evaluate seed 5, sequence 2, R 0.52 m seen from 0.12 m up, 83.3 ->
+  // 92.3 % of its frames found).
   bool turns_out_of_view(const LineDetection& detection) const;
   // Keeps the tape's direction under the vehicle (memory frame) from a measurement at the origin,
   // and the course there.

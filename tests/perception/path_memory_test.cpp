@@ -412,6 +412,7 @@ struct Blind {
 struct Corner {
   double radius_m = 0.3, turn_deg = 90.0;
   double blank_from_s = 0.43;  // where the tape leaves the view at 48 deg
+  bool leaves_at_side = false;  // the evidence's far end at the image's left or right border
 };
 Blind drive_blind(std::optional<Corner> corner, const PathMemoryOptions& options = {}) {
   control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(0.6);
@@ -445,6 +446,7 @@ Blind drive_blind(std::optional<Corner> corner, const PathMemoryOptions& options
       d.lines[0].s_min_m =
           d.followed_model.arc_position(to_vehicle.transform(path.point_at(s + 0.17)));
       d.lines[0].s_max_m = d.followed_model.arc_position(far);
+      d.lines[0].open_end_at_side = corner && corner->leaves_at_side;
     }
     const LineMeasurement m = memory.update(seen, d, vehicle);
     if (in_view) {
@@ -480,6 +482,22 @@ TEST(PathMemory, PastACornerTheRememberedTapeUnderTheVehicle) {
   EXPECT_LE(r.last_remembered_s, r.blank_from_s + 0.43 - 0.025 + 1e-9);
   EXPECT_GE(r.carried, 5);
   EXPECT_LE(r.last_carried_s, r.last_remembered_s + PathMemoryOptions{}.carry_forward_m + 1e-9);
+}
+
+// An arc of R 0.5 m (60 deg) leaving a narrow view sideways: where the view blanks (s 0.33 m) the
+// tape last seen is 18 deg into the arc where its evidence ends (0.16 m into it), 30 deg 0.1 m
+// further on, short of 45 deg; its evidence ended at the image's side border. The remembered tape gives the errors
+// (at least 10 frames, as for the corner above); where the evidence ended inside the view (the
+// tape's end, a covered lens), the line is lost at once.
+TEST(PathMemory, TapeLeavingTheViewSidewaysIsFollowedOnTheRememberedTape) {
+  const Corner arc_out_of_view{0.5, 60.0, 0.33, true};
+  const Blind r = drive_blind(arc_out_of_view);
+  EXPECT_GE(r.remembered, 10);
+  Corner ends_in_view = arc_out_of_view;
+  ends_in_view.leaves_at_side = false;
+  const Blind lost = drive_blind(ends_in_view);
+  EXPECT_EQ(lost.remembered + lost.carried, 0);
+  EXPECT_GT(lost.lost, 0);
 }
 
 // A tighter corner (R 0.27 m, 113 deg, as agv evaluate's seed 5 sequence 8 draws) leaves the view
