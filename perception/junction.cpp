@@ -231,14 +231,17 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   // leftmost for left, the rightmost for right, the nearest the held one for straight: at a Y
   // fork the first frames see both ways nearly straight ahead), then the choice (straight: the
   // way nearest straight_on_rad, where it was seen).
-  auto score_of = [&](double h, double offset_m, double straight_rad) {
+  // h_side: the direction left or right is judged by (h where not given).
+  auto score_of = [&](double h, double offset_m, double straight_rad,
+                      std::optional<double> h_side = std::nullopt) {
     const double from_held = std::abs(wrap_angle_rad(h - held_rad));
     const double held_bonus = holding && from_held < kHoldTolerance_rad ? 10.0 : 0.0;
     if (held_bonus > 0.0 && choice == BranchChoice::kStraight) return held_bonus - from_held;
+    const double side = h_side.value_or(h);
     return held_bonus +
-           (choice == BranchChoice::kLeft ? h
+           (choice == BranchChoice::kLeft ? side
             : choice == BranchChoice::kRight
-                ? -h
+                ? -side
                 : -std::abs(wrap_angle_rad(h - straight_rad)) - std::abs(offset_m) / 0.05);
   };
   // A line followed as it is: in the direction it was followed in the frame before, compared
@@ -262,7 +265,8 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   };
   if (!junction || junction->branches.size() < 2) {
     // Several lines that do not meet in view (a fork whose split point is out of view or
-    // merged): the choice applies to their directions at their near ends; one line: that one.
+    // merged): the choice applies to their directions (near their near ends the way held, at
+    // their far ends left or right); one line: that one.
     followed.line = best_line();
     if (lines.size() > 1) {
       double best_score = -std::numeric_limits<double>::infinity();
@@ -271,7 +275,11 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
         const double near_s = m.arc_position(lines[i].model.point_at(lines[i].s_min_m));
         const double far_s = m.arc_position(lines[i].model.point_at(lines[i].s_max_m));
         const double h = heading_at(m, std::min(near_s, far_s));
-        const double score = score_of(h, lines[i].model.e_d_m, 0.0);
+        // Left or right by the direction at the far end: near the split of a Y fork both legs
+        // run within a few degrees of each other, which way by noise (agv evaluate seed 3,
+        // sequence 11: its branch taken three times for the way left).
+        const double h_far = heading_at(m, std::max(near_s, far_s));
+        const double score = score_of(h, lines[i].model.e_d_m, 0.0, h_far);
         if (score > best_score) {
           best_score = score;
           followed.line = i;

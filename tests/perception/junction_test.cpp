@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/angles.h"
+#include "perception/curve_fit.h"
 
 namespace agv::perception {
 namespace {
@@ -76,6 +77,23 @@ TEST(Junction, TheChoiceNamesTheBranch) {
   EXPECT_NEAR(straight.model.heading_rad, 0.0, 1e-6);
   // Right: the most clockwise way out is straight on (the branch leaves to the left).
   EXPECT_EQ(choose_line(lines, junction, BranchChoice::kRight, 1.05).line, 0);
+}
+
+// A Y fork whose legs do not meet in view (the split just below the image): the straight tape,
+// and 30 mm to its right the branch, bending away right (R 0.5 m) from a near end where its
+// fitted direction points 3.4 deg left (near the split the two legs run parallel within a few
+// degrees, which way by noise). Left is the straight tape, right the branch: judged by where the
+// legs go (their far ends: 0 and -17 deg), not by their near ends (agv evaluate seed 3,
+// sequence 11 took the branch three times for the way left).
+TEST(Junction, LegsThatDoNotMeetAreTakenLeftOrRightByWhereTheyGo) {
+  DetectedLine branch = seen_line(0.2, -0.03, 0.3, -0.03);
+  branch.model = curve_through_point({0.2, -0.03}, 0.06, -2.0);
+  branch.s_min_m = branch.model.arc_position({0.2, -0.03});
+  branch.s_max_m = branch.s_min_m + 0.18;
+  const std::vector<DetectedLine> lines = {seen_line(0.2, 0.0, 0.45, 0.0), branch};
+  ASSERT_FALSE(junction_of(lines));
+  EXPECT_EQ(choose_line(lines, std::nullopt, BranchChoice::kLeft, 1.05).line, 0);
+  EXPECT_EQ(choose_line(lines, std::nullopt, BranchChoice::kRight, 1.05).line, 1);
 }
 
 TEST(Junction, TheBranchChosenBeforeIsKeptToThroughTheJunction) {
