@@ -210,6 +210,27 @@ class Turn {
   double c_, s_;
 };
 
+// Across a gap just past a corner: the end behind (at x0: value, slope and half the second
+// derivative in `behind`) carried on as an arc at its curvature until it turns to the direction
+// of the end ahead (at x1), then straight on. Where that arc ends within meets_m of the line
+// through the end ahead, between the two ends and behind the origin, the tape at the origin is
+// that line: value, slope and second derivative (0) at x = 0. Else nothing.
+std::optional<Eigen::Vector3d> line_after_corner_arc(double x0, const Eigen::Vector3d& behind,
+                                                     double x1, const Eigen::Vector3d& ahead,
+                                                     double meets_m) {
+  constexpr double kMinCurvature_1_m = 1.0;  // R 1 m: tighter is a corner's arc
+  const double h0 = std::atan(behind[1]), h1 = std::atan(ahead[1]);
+  const double k0 = 2.0 * behind[2] / std::pow(1.0 + behind[1] * behind[1], 1.5);
+  if (std::abs(k0) < kMinCurvature_1_m || k0 * (h1 - h0) <= 0.0) return std::nullopt;
+  const Eigen::Vector2d start(x0, behind[0]);
+  const Eigen::Vector2d centre = start + Eigen::Vector2d(-std::sin(h0), std::cos(h0)) / k0;
+  const Eigen::Vector2d end = centre + Eigen::Vector2d(std::sin(h1), -std::cos(h1)) / k0;
+  auto line_y = [&](double x) { return ahead[0] + ahead[1] * (x - x1); };
+  if (std::abs(end.y() - line_y(end.x())) * std::cos(h1) > meets_m || end.x() < x0 || end.x() > 0.0)
+    return std::nullopt;
+  return Eigen::Vector3d(line_y(0.0), ahead[1], 0.0);
+}
+
 }  // namespace
 
 void PathMemory::reset() {
@@ -450,7 +471,12 @@ std::optional<LineMeasurement> PathMemory::across_gap(
       std::abs(std::atan(ahead[1]) - std::atan(behind[1])) <= options_.max_gap_turn_rad;
   // The origin in the frame is x = 0 (a rotation about it); beyond either end, that end's own.
   double y, slope, second;
-  if (!agree) {
+  if (const std::optional<Eigen::Vector3d> line =
+          line_after_corner_arc(x0, behind, x1, ahead, options_.bridge_arc_meets_m)) {
+    y = (*line)[0];
+    slope = (*line)[1];
+    second = (*line)[2];
+  } else if (!agree) {
     // ... and only where that line passes by the end behind (not a branch leaving there).
     if (std::abs(ahead[0] + ahead[1] * (x0 - x1) - behind[0]) > options_.max_gap_offset_m)
       return std::nullopt;
