@@ -32,8 +32,8 @@ struct PathMemoryOptions {
   // ... and put the tape no further across from both the line in view carried back and the
   // course last measured carried forward than a tape width (at least 10 mm) and this: another
   // stretch of the path passing beside the vehicle fills the window where the tape under it was
-  // never seen (agv evaluate seed 3, sequence 11: 91 mm off; seeds 1-8 RMS after 0.5 m 1.49 ->
-  // 1.45 mm).
+  // never seen (agv evaluate seed 3, sequence 11: a frame 91 mm off; seeds 1-8 RMS after 0.5 m
+  // 1.49 -> 1.45 mm).
   double max_offset_jump_m = 0.01;
   // Where the remembered tape starts ahead of the origin with none behind it (the stretch after a
   // corner that the camera, turned away, never saw under it): the errors from the remembered tape
@@ -197,11 +197,13 @@ class PathMemory {
   // than max_gap_turn_rad and that line passes within max_gap_offset_m of the end behind.
   std::optional<LineMeasurement> across_gap(const LineMeasurement& in_view,
                                             const std::vector<Eigen::Vector2d>& in_vehicle) const;
-  // Where the remembered tape reaches no further back than the origin (fewer than side_points
-  // points within window_m behind it) but starts within ahead_max_gap_m ahead of it: `in_view`
-  // with its errors from one arc fitted to the remembered tape over ahead_span_m from its nearest
-  // point (at least 3 min_points points, over half that span, residual under ahead_max_rms_m,
-  // curvature under max_curvature_1_m), flagged extrapolated; else nothing.
+  // After the memory's warm-up (a course measured under the vehicle before), where the remembered
+  // tape reaches no further back than the origin (fewer than side_points points within window_m
+  // behind it) but starts within ahead_max_gap_m ahead of it: `in_view` with its errors from one
+  // arc fitted to the remembered tape over ahead_span_m from its nearest point (at least 3
+  // min_points points, over half that span, ahead_min_kept of them kept, residual under
+  // ahead_max_rms_m, curvature under max_curvature_1_m, agreeing with the last course carried
+  // forward: ahead_course_*), flagged extrapolated; else nothing.
   std::optional<LineMeasurement> from_tape_ahead(
       const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // A frame without a line in view, after tape that turned out of the view or with the tape
