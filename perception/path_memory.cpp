@@ -188,6 +188,14 @@ class EvidenceIndex {
 // Tolerances that scale with the tape's width use at least this width (narrower tapes).
 constexpr double kNarrowTape_m = 0.01;
 
+// Whether the tape a model of the remembered tape puts under the vehicle runs more than 90 deg
+// from the vehicle's heading: the vehicle drives along its tape, so such a reading (a fit in a
+// corner's window, tight enough that its foot point lies round the bend: agv evaluate seed 12,
+// sequence 4, 148 deg) is no measurement.
+bool runs_against_the_vehicle(const CurveModel& model) {
+  return std::abs(wrap_angle_rad(model.heading_rad)) > M_PI / 2.0;
+}
+
 // `in_view` with its errors and curvature from the remembered tape's model at the origin.
 LineMeasurement with_model(const LineMeasurement& in_view, const CurveModel& model) {
   LineMeasurement m = in_view;
@@ -381,6 +389,7 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   }
   const CurveModel fitted =
       curve_in_frame(frame_rad, fit->offset_m, fit->slope, fit->curvature_1_m);
+  if (runs_against_the_vehicle(fitted)) return std::nullopt;
   // Nor is one that puts the tape far across from both the line in view carried back and the
   // course last measured carried forward (another stretch of the path beside the vehicle).
   const double tolerance_m = std::max(tape_width_m_, kNarrowTape_m) + options_.max_offset_jump_m;
@@ -503,7 +512,9 @@ std::optional<LineMeasurement> PathMemory::across_gap(
         ((12 * t - 6) * y0 + (6 * t - 4) * m0 + (-12 * t + 6) * y1 + (6 * t - 2) * m1) / (h * h);
   }
   // The chord frame in the vehicle frame is turned by frame_rad + chord_rad.
-  return with_model(in_view, curve_in_frame(frame_rad + chord_rad, y, slope, second));
+  const CurveModel bridged = curve_in_frame(frame_rad + chord_rad, y, slope, second);
+  if (runs_against_the_vehicle(bridged)) return std::nullopt;
+  return with_model(in_view, bridged);
 }
 
 std::optional<LineMeasurement> PathMemory::from_tape_ahead(

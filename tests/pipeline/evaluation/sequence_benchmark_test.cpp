@@ -50,6 +50,21 @@ TEST(SequenceBenchmark, JoinedArcsAndSBendsMeetTheSingleFrameBarAfterTheWarmUp) 
   EXPECT_NEAR(std::sqrt(sum / counted), after["rms_e_d_m"].get<double>(), 1e-12);
 }
 
+// agv evaluate --seed 12, sequence 4 (a corner of R 0.26 m turning 135 deg, then a fork taken
+// left, camera 0.24 m up): past the corner one frame's reading from the remembered tape ran 148
+// deg against the vehicle (a fit whose foot point lay round the bend), a direction flip. A
+// reading that runs more than 90 deg from the vehicle's heading is no measurement: no flip.
+TEST(SequenceBenchmark, NoReadingRunsAgainstTheVehiclePastATightCorner) {
+  SequenceBenchmarkOptions options;
+  options.seed = 12;
+  options.empty_sequences = 0;
+  options.only_sequence = 4;
+  const SequenceBenchmarkResult result = run_sequence_benchmark(options);
+  SCOPED_TRACE("draw: " + result.sequence_texts.at(4));
+  EXPECT_EQ(result.summary["direction_flips"].get<int>(), 0);
+  EXPECT_GE(result.summary["found_fraction"].get<double>(), 0.99);
+}
+
 // The paths are laid from the pieces named, after the lead-in line (a corner is followed by
 // 0.3 m of line); a fork comes at most once a sequence; the same seed gives the same frames.
 TEST(SequenceBenchmark, PathsAreLaidFromTheNamedPiecesAndTheSameSeedRepeats) {
