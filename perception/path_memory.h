@@ -159,6 +159,8 @@ class PathMemory {
   // The remembered centre-line points in the vehicle frame of the last update (for tests and
   // pictures).
   std::vector<Eigen::Vector2d> points_in_vehicle_frame() const;
+  // How many centre-line points it holds (what its per-frame cost grows with).
+  size_t size() const { return points_.size(); }
 
  private:
   struct Point {

@@ -17,6 +17,7 @@
 #include "common/statistics.h"
 #include "control/line_tracker.h"
 #include "perception/hough_baseline.h"
+#include "perception/path_memory.h"
 #include "perception/tracking_line_estimator.h"
 #include "pipeline/config/factory.h"
 #include "pipeline/config/scenario_run.h"
@@ -65,7 +66,8 @@ void add_bench_command(CLI::App& app, BenchArgs& args) {
       "Speed benchmark on the consecutive frames of a closed-loop run of the scenario (default: "
       "the built-in one, VGA): per-frame time (median, p99) and accuracy against the ground truth "
       "of perception as the loop runs it (tracking between full searches, then the path memory "
-      "on the frames' wheel odometry), of the line estimator alone, of the full search alone, "
+      "on the frames' wheel odometry), of the line estimator alone, of the path memory alone (on "
+      "the line estimator's detections, with the points it holds), of the full search alone, "
       "and of the usual GaussianBlur + Canny + HoughLinesP detector on the same frames; "
       "render and control times; closed-loop frames per second.");
   sub->add_option("--scenario", args.scenario, "Scenario YAML (default: the built-in one)");
@@ -123,8 +125,12 @@ int run_bench(const BenchArgs& args) {
   perception::TrackingLineEstimator tracking(camera, options);
   const perception::LineEstimator full_search(camera, options);
   const perception::HoughBaseline baseline(camera, options.tape.width_m);
+  // The path memory alone, on the line estimator's detections and the frames' wheel odometry
+  // (what the loop adds to the line estimator; timed only where the scenario has odometry).
+  perception::PathMemory memory;
+  std::vector<double> memory_points;
   control::LineTracker tracker = pipeline::make_tracker(scenario, scenario.controller.ts_s);
-  StageRecord perceived, tracked, searched, hough;
+  StageRecord perceived, tracked, remembered, searched, hough;
   std::vector<double> render_us, control_us, step_us;
   cv::Mat frame;
   ProgressBar bar("timing " + std::to_string(poses.size()) + " frames", !args.quiet && !args.json);
@@ -143,7 +149,14 @@ int run_bench(const BenchArgs& args) {
     source_frame.odometry = odometry[i];
     const LineMeasurement m = loop_perception.measure(source_frame, nullptr);
     const Clock::time_point t2 = Clock::now();
-    const LineMeasurement m_tracked = tracking.measure(frame, t);
+    perception::LineDetection detection;
+    const LineMeasurement m_tracked = tracking.measure(frame, t, &detection);
+    const Clock::time_point t2m = Clock::now();
+    if (scenario.perception_path_memory && odometry[i]) {
+      const LineMeasurement m_memory = memory.update(m_tracked, detection, odometry[i]);
+      remembered.add(microseconds(t2m, Clock::now()), m_memory, truths[i]);
+      memory_points.push_back(static_cast<double>(memory.size()));
+    }
     const Clock::time_point t3 = Clock::now();
     const LineMeasurement m_full = full_search.estimate(frame, t);
     const Clock::time_point t4 = Clock::now();
@@ -153,7 +166,7 @@ int run_bench(const BenchArgs& args) {
     const Clock::time_point t6 = Clock::now();
     render_us.push_back(microseconds(t0, t1));
     perceived.add(microseconds(t1, t2), m, truths[i]);
-    tracked.add(microseconds(t2, t3), m_tracked, truths[i]);
+    tracked.add(microseconds(t2, t2m), m_tracked, truths[i]);
     searched.add(microseconds(t3, t4), m_full, truths[i]);
     hough.add(microseconds(t4, t5), m_hough, truths[i]);
     control_us.push_back(microseconds(t5, t6));
@@ -184,6 +197,10 @@ int run_bench(const BenchArgs& args) {
   j["perceive_line_estimator"]["frames_tracked"] = tracking.counts().tracked;
   j["baseline_over_line_estimator_median"] =
       baseline_median_us / std::max(1e-9, percentile(tracked.us, 0.5));
+  if (!remembered.us.empty()) {
+    j["perceive_path_memory"] = remembered.json();
+    j["perceive_path_memory"]["points_median"] = percentile(memory_points, 0.5);
+  }
   j["perceive_full_search"] = searched.json();
   j["baseline_canny_hough"] = hough.json();
   j["baseline_over_perceive_median"] = speedup;
@@ -221,6 +238,9 @@ int run_bench(const BenchArgs& args) {
                                       : "perceive as the loop runs it",
       perceived);
   row("  line estimator alone (tracking)", tracked);
+  if (!remembered.us.empty())
+    row(cv::format("  path memory alone (%.0f points)", percentile(memory_points, 0.5)).c_str(),
+        remembered);
   row("  full search only", searched);
   row("baseline blur+Canny+HoughLinesP", hough);
   line(cv::format("%-44s %10.2f %10.2f", "control", percentile(control_us, 0.5),

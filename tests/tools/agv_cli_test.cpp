@@ -284,6 +284,14 @@ TEST_F(AgvCli, BenchPrintsTheDesignKeys) {
       EXPECT_TRUE(j[stage].contains(key)) << stage << "." << key;
   // Perception as the loop runs it: the built-in scenario remembers the tape (path memory).
   EXPECT_EQ(j["perceive"]["path_memory"], true);
+  // The path memory timed alone, on the line estimator's detections and the same odometry: it
+  // reads what the loop read (the same deterministic evidence), from the points it holds.
+  for (const char* key : {"us_median", "us_p99", "found", "rms_e_d_m", "rms_e_theta_rad"})
+    EXPECT_TRUE(j["perceive_path_memory"].contains(key)) << key;
+  EXPECT_GT(j["perceive_path_memory"]["points_median"].get<double>(), 0.0);
+  EXPECT_EQ(j["perceive_path_memory"]["found"], j["perceive"]["found"]);
+  EXPECT_NEAR(j["perceive_path_memory"]["rms_e_d_m"].get<double>(),
+              j["perceive"]["rms_e_d_m"].get<double>(), 1e-12);
   EXPECT_EQ(j["output"], path("bench"));
   std::ifstream table(dir_ / "bench" / "bench.txt");
   std::string first_line;
