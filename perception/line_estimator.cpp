@@ -477,20 +477,16 @@ LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& f
                                               double stamp_s, const FollowHistory* history) const {
   // Where the evidence of each line ends: at the image border the tape goes on unseen.
   const double border_px = 0.04 * std::min(frame.cols, frame.rows);
-  auto near_border = [&](const Eigen::Vector2d& p) {
+  // Whether the evidence ending at p runs into the border (*open), and into the left or right
+  // border (*at_side); a point outside the image is at the border but at no side.
+  auto border_at = [&](const Eigen::Vector2d& p, bool* open, bool* at_side) {
     const auto pixel = camera_.floor_to_pixel(p);
-    return !pixel || pixel->x < border_px || pixel->y < border_px ||
-           pixel->x > frame.cols - 1 - border_px || pixel->y > frame.rows - 1 - border_px;
-  };
-  auto near_side = [&](const Eigen::Vector2d& p) {
-    const auto pixel = camera_.floor_to_pixel(p);
-    return pixel && (pixel->x < border_px || pixel->x > frame.cols - 1 - border_px);
+    *at_side = pixel && (pixel->x < border_px || pixel->x > frame.cols - 1 - border_px);
+    *open = !pixel || *at_side || pixel->y < border_px || pixel->y > frame.rows - 1 - border_px;
   };
   for (DetectedLine& line : d.lines) {
-    line.open_start = near_border(line.model.point_at(line.s_min_m));
-    line.open_end = near_border(line.model.point_at(line.s_max_m));
-    line.open_start_at_side = near_side(line.model.point_at(line.s_min_m));
-    line.open_end_at_side = near_side(line.model.point_at(line.s_max_m));
+    border_at(line.model.point_at(line.s_min_m), &line.open_start, &line.open_start_at_side);
+    border_at(line.model.point_at(line.s_max_m), &line.open_end, &line.open_end_at_side);
   }
   // A branch is a piece of tape leaving the junction by more than a tape width (less is the
   // overlap of a corner), or running out of view once clear of the crossing tape. The width is
