@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include <opencv2/core/hal/hal.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "common/twist_motion.h"
@@ -102,6 +103,16 @@ void FrameRenderer::make_gain_and_glare() {
       glare_.at<float>(v, u) = static_cast<float>(
           fx.specular_strength * std::exp(-(gu * gu + gv * gv) / (2.0 * radius_px * radius_px)));
     }
+  }
+  // Where a row's glare is exactly 0 adding it changes nothing: expose_row skips it there (most
+  // rows of most scenes have none; reading it cost a tenth of a frame).
+  glare_span_.assign(h, {0, 0});
+  for (int v = 0; v < h; ++v) {
+    const float* glare = glare_.ptr<float>(v);
+    int first = 0, last = w;
+    while (first < w && glare[first] == 0.0f) ++first;
+    while (last > first && glare[last - 1] == 0.0f) --last;
+    glare_span_[v] = {first, last};
   }
 }
 
@@ -254,8 +265,6 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
   row.noise_dy = frame_rng.uniform(0, kNoiseMargin);
   row.noise_gain = static_cast<float>(fx.noise_sigma) / kNoiseScale;
   RowBuffers buffers(w, static_cast<int>(scene_.tapes.size()));
-  cv::Mat* planes = workspace_.planes;
-  for (int ch = 0; ch < 3; ++ch) planes[ch].create(h, w, CV_8U);
   for (int v = 0; v < h; ++v) {
     if (textured) texture_upsampler_->row(workspace_.texture_small, v, buffers.texture.data());
     shade_floor_row(row, &buffers);
@@ -263,9 +272,11 @@ void FrameRenderer::render_into(const Pose2& pose, const BodyTwist& twist,
       draw_tape_in_row(v, i, row, &buffers);
     if (!tag_patterns_.empty())
       draw_tags_in_row(v, pose, buffers.blue.data(), buffers.green.data(), buffers.red.data());
-    expose_row(v, row, buffers);
+    expose_row(v, row, &buffers);
+    const uchar* planes[3] = {buffers.level[0].data(), buffers.level[1].data(),
+                              buffers.level[2].data()};
+    cv::hal::merge8u(planes, frame->ptr<uchar>(v), w, 3);
   }
-  cv::merge(planes, 3, *frame);
 }
 
 // The floor's colour along the row, with its texture (b->texture).
@@ -411,27 +422,33 @@ void FrameRenderer::wear_tape_in_row(int v, int i, const Pose2& pose, int first,
 }
 
 // The camera over row v: vignetting and illumination gain, glare, sensor noise, 8-bit output
-// (one plane per channel, so that the loops vectorise; merged into BGR at the end).
+// into b->level (one row per channel, so that the loops vectorise; interleaved into BGR after).
 AGV_VECTOR_CLONES
-void FrameRenderer::expose_row(int v, const RowContext& row, const RowBuffers& b) const {
-  const int w = static_cast<int>(b.blue.size());
+void FrameRenderer::expose_row(int v, const RowContext& row, RowBuffers* b) const {
+  const int w = static_cast<int>(b->blue.size());
   const float* __restrict gain = gain_.ptr<float>(v);
   const float* __restrict glare = glare_.ptr<float>(v);
-  const float* colour[3] = {b.blue.data(), b.green.data(), b.red.data()};
+  const auto [glare_first, glare_last] = glare_span_[v];
+  const float* colour[3] = {b->blue.data(), b->green.data(), b->red.data()};
   for (int ch = 0; ch < 3; ++ch) {
     const signed char* __restrict noise =
         noise_bank_.ptr<signed char>(v + row.noise_dy) + row.noise_dx + ch * w;
     // __restrict: the 8-bit output may otherwise alias the inputs, which keeps the loop scalar.
-    unsigned char* __restrict out = workspace_.planes[ch].ptr<unsigned char>(v);
+    unsigned char* __restrict out = b->level[ch].data();
     const float* __restrict c = colour[ch];
-    for (int u = 0; u < w; ++u) {
-      // Rounded (+ 0.5, truncated), then clamped to 0-255: clamping the integer is the same as
-      // clamping the float before it (the values are far inside int's range), and unlike float
-      // min/max (NaN rules) it maps onto vector instructions.
-      const int level =
-          static_cast<int>(c[u] * gain[u] + glare[u] + row.noise_gain * noise[u] + 0.5f);
-      out[u] = static_cast<unsigned char>(std::min(std::max(level, 0), 255));
-    }
+    // Rounded (+ 0.5, truncated), then clamped to 0-255: clamping the integer is the same as
+    // clamping the float before it (the values are far inside int's range), and unlike float
+    // min/max (NaN rules) it maps onto vector instructions. Outside the glare's span its 0 is not
+    // added (x + 0 is x).
+    const auto level = [](float value) {
+      return static_cast<unsigned char>(std::min(std::max(static_cast<int>(value), 0), 255));
+    };
+    for (int u = 0; u < glare_first; ++u)
+      out[u] = level(c[u] * gain[u] + row.noise_gain * noise[u] + 0.5f);
+    for (int u = glare_first; u < glare_last; ++u)
+      out[u] = level(c[u] * gain[u] + glare[u] + row.noise_gain * noise[u] + 0.5f);
+    for (int u = glare_last; u < w; ++u)
+      out[u] = level(c[u] * gain[u] + row.noise_gain * noise[u] + 0.5f);
   }
 }
 

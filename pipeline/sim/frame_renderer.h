@@ -4,6 +4,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "common/body_twist.h"
@@ -45,6 +46,7 @@ class FrameRenderer {
   cv::Mat texture_x_m_, texture_y_m_;  // the same on the half-resolution texture grid
   cv::Mat gain_;   // CV_32F: vignetting x illumination gradient x shadow x brightness
   cv::Mat glare_;  // CV_32F: specular glare added, grey levels
+  std::vector<std::pair<int, int>> glare_span_;  // per row: columns [first, last) of glare != 0
   std::vector<float> wear_level_;  // per strip: texture level above which the tape is worn
   cv::Mat noise_bank_;             // CV_8S: standard normal samples x kNoiseScale
   std::vector<WorldPiece> pieces_;
@@ -73,7 +75,7 @@ class FrameRenderer {
   // Per row: the largest floor distance between neighbouring pixels, metres.
   std::vector<float> row_step_m_;
   struct Workspace {  // per-frame buffers kept between frames (no allocation per frame)
-    cv::Mat texture_small, planes[3];
+    cv::Mat texture_small;
   };
   mutable Workspace workspace_;
   // texture_small enlarged to the frame, a row at a time (cv::resize's values).
@@ -116,17 +118,20 @@ class FrameRenderer {
           wear_x(width),
           wear_y(width),
           wear_level(width),
-          alpha(strips, std::vector<float>(width)) {}
+          alpha(strips, std::vector<float>(width)),
+          level{std::vector<unsigned char>(width), std::vector<unsigned char>(width),
+                std::vector<unsigned char>(width)} {}
     std::vector<float> distance, coverage, texture, blue, green, red;
     std::vector<float> wear_x, wear_y, wear_level;  // worn tape: its pattern's points, levels
     std::vector<float> coarse_distance;     // at coarse_x_m_, coarse_y_m_
     std::vector<std::vector<float>> alpha;  // per strip: coverage summed over the exposure
+    std::vector<unsigned char> level[3];    // the row's 8-bit output, per channel (B, G, R)
   };
   void shade_floor_row(const RowContext& row, RowBuffers* buffers) const;
   void draw_tape_in_row(int v, int strip, const RowContext& row, RowBuffers* buffers) const;
   void wear_tape_in_row(int v, int strip, const Pose2& pose, int first, int last,
                         RowBuffers* buffers) const;
-  void expose_row(int v, const RowContext& row, const RowBuffers& buffers) const;
+  void expose_row(int v, const RowContext& row, RowBuffers* buffers) const;
 };
 
 }  // namespace agv::pipeline
