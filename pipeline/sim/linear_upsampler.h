@@ -27,6 +27,7 @@ class LinearUpsampler {
   std::vector<int> x_source_;     // per output column: the left source column
   std::vector<float> x_weights_;  // per output column: the left and right source weights
   int x_interpolated_end_ = 0;    // columns from here on copy their source column
+  bool doubling_ = false;         // to.width is 2 from.width with the doubling's weights
   std::vector<int> y_source_;     // per output row: the upper source row (before clamping)
   std::vector<float> y_weights_;  // per output row: the upper and lower weights
   int kept_row_[2] = {-1, -1};
