@@ -302,8 +302,7 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   const float* xs = floor_x_m_.ptr<float>(v);
   const float* ys = floor_y_m_.ptr<float>(v);
   const float* texture = b->texture.data();
-  std::vector<float>& alpha = b->alpha[i];
-  std::fill(alpha.begin(), alpha.end(), 0.0f);
+  std::vector<float>& alpha = b->alpha[i];  // 0 everywhere between rows (cleared after use)
   bool strip_in_row = false;
   const float* inverse_ramp = inverse_ramp_[i].ptr<float>(v);
   const TapeStrip& tape = scene_.tapes[i];
@@ -317,7 +316,8 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
   const float reach_m = tape_reach_m_[i][v] + 1e-4f;
   const float half_span_m = 0.5f * kCoarseStep * row_step_m_[v];
   // Columns [drawn_first, drawn_last] hold all the tape of this row (alpha is 0 outside);
-  // b->coverage is 0 everywhere between sub-poses (each clears what it drew).
+  // b->coverage is 0 everywhere between sub-poses (each clears what it drew), as alpha is between
+  // rows.
   int drawn_first = w, drawn_last = -1;
   for (const SubPose& sp : *row.tape_poses) {
     int pose_first = w, pose_last = -1;
@@ -377,13 +377,14 @@ void FrameRenderer::draw_tape_in_row(int v, int i, const RowContext& row, RowBuf
       static_cast<float>(scene_.floor.texture_contrast > 0.0 ? scene_.floor.texture_contrast : 1.0);
   const float inverse_samples = 1.0f / static_cast<int>(row.tape_poses->size());
   const float texture_scale = tape_contrast * row.texture_scale;
-  const float* __restrict summed = alpha.data();
+  float* __restrict summed = alpha.data();
   const float* __restrict pattern = texture;
   float* __restrict blue = b->blue.data();
   float* __restrict green = b->green.data();
   float* __restrict red = b->red.data();
   for (int u = drawn_first; u <= drawn_last; ++u) {
     const float a = summed[u] * inverse_samples;
+    summed[u] = 0.0f;
     // The tape shares the floor's texture pattern, at its own (weaker) contrast.
     const float t = 1.0f + texture_scale * pattern[u];
     blue[u] += a * (tape_b * t - blue[u]);
