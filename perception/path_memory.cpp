@@ -251,6 +251,7 @@ void PathMemory::reset() {
   last_odometry_.reset();
   tape_heading_rad_.reset();
   corner_passed_at_m_.reset();
+  recent_headings_.clear();
   last_course_.reset();
 }
 
@@ -401,11 +402,25 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   return with_model(in_view, fitted);
 }
 
+bool PathMemory::straight_after_turn() const {
+  bool turned = false;
+  for (const auto& [odometer_m, yaw_rad] : recent_headings_) {
+    const double turn_rad = std::abs(wrap_angle_rad(vehicle_.yaw_rad - yaw_rad));
+    if (odometer_m_ - odometer_m <= options_.bridge_steady_m &&
+        turn_rad > options_.bridge_steady_turn_rad)
+      return false;
+    turned = turned || turn_rad > options_.bridge_after_turn_rad;
+  }
+  return turned;
+}
+
 std::optional<LineMeasurement> PathMemory::across_gap(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
-  // Only just after a corner.
-  if (!corner_passed_at_m_ || odometer_m_ - *corner_passed_at_m_ > options_.bridge_after_corner_m)
-    return std::nullopt;
+  // Only just after a corner passed on the memory alone, or a turn driven with the tape in view.
+  const bool after_corner =
+      corner_passed_at_m_ && odometer_m_ - *corner_passed_at_m_ <= options_.bridge_after_corner_m;
+  if (!after_corner && !straight_after_turn()) return std::nullopt;
+  const double band_m = after_corner ? options_.window_across_m : options_.bridge_band_m;
   // In a frame along the remembered tape's direction at the origin (else the vehicle's): the
   // tape nearest behind the origin and nearest ahead of it, each over gap_end_m.
   const double frame_rad =
@@ -415,7 +430,7 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   const Turn to_frame(-frame_rad);
   for (const Eigen::Vector2d& p : in_vehicle) {
     const Eigen::Vector2d q = to_frame(p);
-    if (std::abs(q.y()) > options_.window_across_m || q.x() < -options_.keep_behind_m ||
+    if (std::abs(q.y()) > band_m || q.x() < -options_.keep_behind_m ||
         q.x() > options_.max_gap_m + options_.gap_end_m)
       continue;
     local.push_back(q);
@@ -836,6 +851,9 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
   grow_misalignment(travelled_m, kind);  // every frame, also those without tape in view
+  recent_headings_.emplace_back(odometer_m_, vehicle_.yaw_rad);
+  while (odometer_m_ - recent_headings_.front().first > options_.bridge_after_corner_m)
+    recent_headings_.pop_front();
   if (!in_view.line_found) return remembered_only(in_view, detection);
   if (detection.followed < 0 || detection.followed >= static_cast<int>(detection.lines.size()))
     return in_view;

@@ -2,7 +2,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Dense>
+#include <deque>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "common/line_measurement.h"
@@ -71,6 +73,16 @@ struct PathMemoryOptions {
   double max_gap_turn_rad = 0.5;
   double max_gap_offset_m = 0.005;
   double bridge_after_corner_m = 0.5;  // ... within this travel of a corner (remembered only)
+  // ... or of a turn the vehicle drove with the tape in view (its heading turned by more than
+  // bridge_after_turn_rad within bridge_after_corner_m), once it runs straight again (less than
+  // bridge_steady_turn_rad over the last bridge_steady_m): a tight corner's outgoing tape lies in
+  // the camera's blind stretch there too. Only tape within bridge_band_m across the vehicle's
+  // heading counts then (other stretches of the path beside it would fill the gap: agv evaluate
+  // seed 3 sequence 11, a third tape at a fork just past a corner of R 0.21 m, read 86 mm off).
+  double bridge_after_turn_rad = 0.5;
+  double bridge_steady_m = 0.05;
+  double bridge_steady_turn_rad = 0.1;
+  double bridge_band_m = 0.03;
   // ... the tape behind a corner's arc (curvature above 1 1/m) whose last stretch the turned
   // camera never saw: carried on at its curvature to the direction of the end ahead, where that
   // arc ends within this of the line through the end ahead, behind the origin, the tape under the
@@ -193,10 +205,10 @@ class PathMemory {
   std::optional<LineMeasurement> at_origin(const LineMeasurement& in_view,
                                            const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // Where no tape was seen under the vehicle but some behind it and some ahead, just past a
-  // corner (the camera looked beyond the tape that then came under the vehicle): the errors at the
-  // origin from a cubic joining the two ends with their values and directions (the gap at most
-  // max_gap_m), or from the line through the end ahead where their directions differ by more
-  // than max_gap_turn_rad and that line passes within max_gap_offset_m of the end behind.
+  // corner or a turn (the camera looked beyond the tape that then came under the vehicle): the
+  // errors at the origin from a cubic joining the two ends with their values and directions (the
+  // gap at most max_gap_m), or from the line through the end ahead where their directions differ
+  // by more than max_gap_turn_rad and that line passes within max_gap_offset_m of the end behind.
   std::optional<LineMeasurement> across_gap(const LineMeasurement& in_view,
                                             const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // After the memory's warm-up (a course measured under the vehicle before), where the remembered
@@ -259,6 +271,11 @@ class PathMemory {
   bool turns_out_of_view_ = false;            // the tape last seen turned out of the view
   double odometer_m_ = 0.0;                   // distance driven since the start
   std::optional<double> corner_passed_at_m_;  // odometer when last remembered only past a corner
+  // (odometer, vehicle heading in the memory frame) of the frames over the last
+  // bridge_after_corner_m driven.
+  std::deque<std::pair<double, double>> recent_headings_;
+  // Whether the vehicle has turned by bridge_after_turn_rad lately and runs straight now.
+  bool straight_after_turn() const;
   // The course last measured under the vehicle: its foot point, direction (memory frame) and
   // curvature, and the odometer then.
   struct Course {
