@@ -8,82 +8,11 @@
 
 #include "common/angles.h"
 #include "perception/joined_arcs_fit.h"
+#include "perception/point_grid.h"
 
 namespace agv::perception {
 
 namespace {
-
-// Points by square cells of a given size: the points within that distance of any place lie in
-// the 3 x 3 cells around that place's cell. The points of a cell are listed in index order.
-class PointGrid {
- public:
-  PointGrid(const std::vector<Eigen::Vector2d>& points, double cell_m) : cell_m_(cell_m) {
-    if (points.empty()) return;
-    // A counting sort into the cells of the points' bounding box (a few hundred cells for the
-    // tape in and near the view).
-    long long x0 = std::numeric_limits<long long>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-    std::vector<std::pair<long long, long long>> cells(points.size());
-    for (size_t j = 0; j < points.size(); ++j) {
-      cells[j] = cell(points[j]);
-      x0 = std::min(x0, cells[j].first);
-      x1 = std::max(x1, cells[j].first);
-      y0 = std::min(y0, cells[j].second);
-      y1 = std::max(y1, cells[j].second);
-    }
-    x0_ = x0;
-    y0_ = y0;
-    columns_ = x1 - x0 + 1;
-    rows_ = y1 - y0 + 1;
-    if (columns_ > 4096 || rows_ > 4096 ||
-        columns_ * rows_ > static_cast<long long>(4 * points.size() + 1024)) {
-      columns_ = rows_ = 0;  // too spread out for a dense grid: none (every lookup scans all)
-      all_.resize(points.size());
-      for (size_t j = 0; j < points.size(); ++j) all_[j] = j;
-      return;
-    }
-    start_.assign(columns_ * rows_ + 1, 0);
-    for (const auto& [cx, cy] : cells) ++start_[slot(cx, cy) + 1];
-    for (size_t k = 1; k < start_.size(); ++k) start_[k] += start_[k - 1];
-    indices_.resize(points.size());
-    std::vector<size_t> next(start_.begin(), start_.end() - 1);
-    for (size_t j = 0; j < points.size(); ++j)
-      indices_[next[slot(cells[j].first, cells[j].second)]++] = j;
-  }
-
-  // f(index) for every point within cell_m of p (and some a little farther), cell by cell, in
-  // index order within a cell.
-  template <typename F>
-  void for_each_near(const Eigen::Vector2d& p, F f) const {
-    if (columns_ == 0) {
-      for (size_t j : all_) f(j);
-      return;
-    }
-    const auto [cx, cy] = cell(p);
-    for (long long dx = -1; dx <= 1; ++dx) {
-      for (long long dy = -1; dy <= 1; ++dy) {
-        const long long x = cx + dx - x0_, y = cy + dy - y0_;
-        if (x < 0 || y < 0 || x >= columns_ || y >= rows_) continue;
-        const size_t k = static_cast<size_t>(x * rows_ + y);
-        for (size_t i = start_[k]; i < start_[k + 1]; ++i) f(indices_[i]);
-      }
-    }
-  }
-
- private:
-  std::pair<long long, long long> cell(const Eigen::Vector2d& p) const {
-    return {static_cast<long long>(std::floor(p.x() / cell_m_)),
-            static_cast<long long>(std::floor(p.y() / cell_m_))};
-  }
-  size_t slot(long long cx, long long cy) const {
-    return static_cast<size_t>((cx - x0_) * rows_ + (cy - y0_));
-  }
-
-  double cell_m_;
-  long long x0_ = 0, y0_ = 0, columns_ = 0, rows_ = 0;
-  std::vector<size_t> start_;    // the points of cell k: indices_[start_[k] .. start_[k + 1])
-  std::vector<size_t> indices_;  // point indices, cell by cell
-  std::vector<size_t> all_;      // without a dense grid: every point
-};
 
 // The evidence for the registration: each remembered point's nearest evidence point, and the
 // tape's local course there, worked out once when first asked for: the evidence within the
@@ -113,35 +42,38 @@ class EvidenceIndex {
         line_(line),
         neighbourhood_m_(neighbourhood_m),
         grid_(evidence, neighbourhood_m),
+        fine_grid_(evidence, fine_cell_m(evidence, neighbourhood_m)),
         courses_(evidence.size()),
-        computed_(evidence.size(), false) {}
+        computed_(evidence.size(), false),
+        in_neighbourhood_(evidence.size(), false) {}
 
   // The index of the evidence point nearest to p (the lowest index among equals), if it lies
   // within the neighbourhood.
   std::optional<size_t> nearest(const Eigen::Vector2d& p) const {
-    std::optional<size_t> found;
-    double best = 0.0;
-    grid_.for_each_near(p, [&](size_t j) {
-      const double d2 = (evidence_[j] - p).squaredNorm();
-      if (d2 > neighbourhood_m_ * neighbourhood_m_) return;
-      if (!found || d2 < best || (d2 == best && j < *found)) {
-        best = d2;
-        found = j;
-      }
-    });
-    return found;
+    return fine_grid_.nearest(evidence_, p, neighbourhood_m_);
   }
 
   const LocalCourse& course_at(size_t j) {
     if (computed_[j]) return courses_[j];
     computed_[j] = true;
-    std::vector<size_t> near;
+    // The neighbourhood in the evidence's order (the sums below in that order): marked, then
+    // read off between the lowest and highest index marked (neighbours along the tape are
+    // neighbours in the scan).
+    size_t first = evidence_.size(), last = 0;
     grid_.for_each_near(evidence_[j], [&](size_t k) {
-      if ((evidence_[k] - evidence_[j]).squaredNorm() <= neighbourhood_m_ * neighbourhood_m_)
-        near.push_back(k);
+      if ((evidence_[k] - evidence_[j]).squaredNorm() > neighbourhood_m_ * neighbourhood_m_) return;
+      in_neighbourhood_[k] = true;
+      first = std::min(first, k);
+      last = std::max(last, k);
     });
+    std::vector<size_t>& near = near_;
+    near.clear();
+    for (size_t k = first; k <= last && first <= last; ++k) {
+      if (!in_neighbourhood_[k]) continue;
+      in_neighbourhood_[k] = false;
+      near.push_back(k);
+    }
     if (near.size() < 3) return courses_[j];
-    std::sort(near.begin(), near.end());  // sums in the evidence's order
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
     Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
     for (size_t k : near) {
@@ -181,8 +113,27 @@ class EvidenceIndex {
   CurveModel line_;  // the line in view the evidence belongs to
   double neighbourhood_m_;
   PointGrid grid_;
+  // For the nearest point: cells a quarter of the neighbourhood, or as small as the evidence's
+  // spread allows a dense grid (a full search's 480 points 0.4 mm apart hold 20 a cell of the
+  // neighbourhood's size, which every remembered point would look at).
+  static double fine_cell_m(const std::vector<Eigen::Vector2d>& evidence, double neighbourhood_m) {
+    if (evidence.empty()) return neighbourhood_m;
+    Eigen::Vector2d lo = evidence.front(), hi = lo;
+    for (const Eigen::Vector2d& e : evidence) {
+      lo = lo.cwiseMin(e);
+      hi = hi.cwiseMax(e);
+    }
+    const Eigen::Vector2d size = hi - lo;
+    const double cells = static_cast<double>(PointGrid::max_cells(evidence.size()));
+    return std::max(0.25 * neighbourhood_m, 1.1 * std::sqrt((size.x() + neighbourhood_m) *
+                                                            (size.y() + neighbourhood_m) / cells));
+  }
+  PointGrid fine_grid_;
   std::vector<LocalCourse> courses_;
   std::vector<bool> computed_;
+  // Scratch for the neighbourhood of the course being worked out (all false between uses).
+  std::vector<bool> in_neighbourhood_;
+  std::vector<size_t> near_;
 };
 
 // Tolerances that scale with the tape's width use at least this width (narrower tapes).
@@ -351,11 +302,17 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   double frame_rad = tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad)
                                        : -in_view.e_theta_rad;
   std::optional<JoinedArcs> fit;
+  // Only points as near the origin as the window's corners (a rounding margin) can lie in it,
+  // whichever way it turns.
+  const double reach_m = std::hypot(options_.window_m, options_.window_across_m) + 1e-9;
+  std::vector<Eigen::Vector2d> near_origin;
+  for (const Eigen::Vector2d& p : in_vehicle)
+    if (p.squaredNorm() <= reach_m * reach_m) near_origin.push_back(p);
   for (int pass = 0;; ++pass) {
     std::vector<Eigen::Vector2d> local;
     std::vector<double> along;
     const Turn to_frame(-frame_rad);
-    for (const Eigen::Vector2d& p : in_vehicle) {
+    for (const Eigen::Vector2d& p : near_origin) {
       const Eigen::Vector2d q = to_frame(p);
       if (std::abs(q.x()) > options_.window_m || std::abs(q.y()) > options_.window_across_m)
         continue;
@@ -614,7 +571,7 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   std::vector<double> ahead;
   const double h = options_.preview_half_window_m, across_m = 0.02;
   const PointGrid grid(in_vehicle, std::hypot(h, across_m));
-  std::vector<size_t> near;
+  std::vector<Eigen::Vector2d> local;
   for (double s = options_.preview_step_m;; s += options_.preview_step_m) {
     // Advance along the arc of the current curvature.
     const double turn = curvature * options_.preview_step_m;
@@ -622,18 +579,23 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
                                                     : options_.preview_step_m;
     at += chord * Eigen::Vector2d(std::cos(heading + 0.5 * turn), std::sin(heading + 0.5 * turn));
     heading += turn;
-    // The points within the window (in the grid's order: the fit orders them along x).
-    near.clear();
-    grid.for_each_near(at, [&](size_t j) { near.push_back(j); });
-    std::vector<Eigen::Vector2d> local;
+    // The points within the window (in the grid's order: the fit orders them along x), looked
+    // at only within its bounding box (and a rounding margin).
+    const double c = std::abs(std::cos(heading)), sn = std::abs(std::sin(heading));
+    const Eigen::Vector2d reach(c * h + sn * across_m + 1e-9, sn * h + c * across_m + 1e-9);
+    const Eigen::Vector2d box_lo = at - reach, box_hi = at + reach;
+    local.clear();
     double hi = -1.0;
     const Turn to_window(-heading);
-    for (size_t j : near) {
-      const Eigen::Vector2d q = to_window(in_vehicle[j] - at);
-      if (std::abs(q.x()) > h || std::abs(q.y()) > across_m) continue;
+    grid.for_each_near_in_box(at, box_lo, box_hi, [&](size_t j) {
+      const Eigen::Vector2d& p = in_vehicle[j];
+      if (p.x() < box_lo.x() || p.x() > box_hi.x() || p.y() < box_lo.y() || p.y() > box_hi.y())
+        return;
+      const Eigen::Vector2d q = to_window(p - at);
+      if (std::abs(q.x()) > h || std::abs(q.y()) > across_m) return;
       local.push_back(q);
       hi = std::max(hi, q.x());
-    }
+    });
     if (hi < 0.5 * h) break;  // the evidence ends here
     // One piece first (no breakpoint search): the joined arcs only where its curvature
     // suggests a change (a window across a joint reads about the mean of its two pieces).

@@ -1,0 +1,149 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <utility>
+#include <vector>
+
+namespace agv::perception {
+
+// Points by square cells of a given size: the points within that distance of any place lie in
+// the 3 x 3 cells around that place's cell. The points of a cell are listed in index order.
+class PointGrid {
+ public:
+  PointGrid(const std::vector<Eigen::Vector2d>& points, double cell_m) : cell_m_(cell_m) {
+    if (points.empty()) return;
+    // A counting sort into the cells of the points' bounding box (a few hundred cells for the
+    // tape in and near the view).
+    long long x0 = std::numeric_limits<long long>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+    std::vector<std::pair<long long, long long>> cells(points.size());
+    for (size_t j = 0; j < points.size(); ++j) {
+      cells[j] = cell(points[j]);
+      x0 = std::min(x0, cells[j].first);
+      x1 = std::max(x1, cells[j].first);
+      y0 = std::min(y0, cells[j].second);
+      y1 = std::max(y1, cells[j].second);
+    }
+    x0_ = x0;
+    y0_ = y0;
+    columns_ = x1 - x0 + 1;
+    rows_ = y1 - y0 + 1;
+    if (columns_ > 4096 || rows_ > 4096 ||
+        columns_ * rows_ > static_cast<long long>(max_cells(points.size()))) {
+      columns_ = rows_ = 0;  // too spread out for a dense grid: none (every lookup scans all)
+      all_.resize(points.size());
+      for (size_t j = 0; j < points.size(); ++j) all_[j] = j;
+      return;
+    }
+    start_.assign(columns_ * rows_ + 1, 0);
+    for (const auto& [cx, cy] : cells) ++start_[slot(cx, cy) + 1];
+    for (size_t k = 1; k < start_.size(); ++k) start_[k] += start_[k - 1];
+    indices_.resize(points.size());
+    std::vector<size_t> next(start_.begin(), start_.end() - 1);
+    for (size_t j = 0; j < points.size(); ++j)
+      indices_[next[slot(cells[j].first, cells[j].second)]++] = j;
+  }
+
+  // The most cells of a dense grid for this many points (else every lookup scans them all).
+  static size_t max_cells(size_t points) { return 4 * points + 1024; }
+
+  // The index of the point nearest to p within radius_m (the lowest index among equals), if
+  // any: the cells in rings of growing distance around p's, until the rings left lie farther
+  // than the nearest found (with cells much smaller than the radius, few are looked at).
+  std::optional<size_t> nearest(const std::vector<Eigen::Vector2d>& points,
+                                const Eigen::Vector2d& p, double radius_m) const {
+    std::optional<size_t> found;
+    double best = radius_m * radius_m;
+    auto consider = [&](size_t j) {
+      const double d2 = (points[j] - p).squaredNorm();
+      if (d2 > best || (found && d2 == best && j > *found)) return;
+      best = d2;
+      found = j;
+    };
+    if (columns_ == 0) {
+      for (size_t j : all_) consider(j);
+      return found;
+    }
+    const auto [cx, cy] = cell(p);
+    const long long x = cx - x0_, y = cy - y0_;
+    const long long last_ring = static_cast<long long>(std::floor(radius_m / cell_m_)) + 1;
+    // A cell of ring r lies at least (r - 1) cells from p.
+    if (x < -last_ring || y < -last_ring || x >= columns_ + last_ring || y >= rows_ + last_ring)
+      return found;
+    for (long long r = 0; r <= last_ring; ++r) {
+      const double clear_m = static_cast<double>(r - 1) * cell_m_;
+      if (r >= 2 && found && best < clear_m * clear_m) break;
+      for (long long i = x - r; i <= x + r; ++i) {
+        if (i < 0 || i >= columns_) continue;
+        const bool edge_column = i == x - r || i == x + r;
+        for (long long k = y - r; k <= y + r; k += edge_column ? 1 : 2 * r) {
+          if (k >= 0 && k < rows_) {
+            const size_t slot = static_cast<size_t>(i * rows_ + k);
+            for (size_t n = start_[slot]; n < start_[slot + 1]; ++n) consider(indices_[n]);
+          }
+          if (r == 0) break;
+        }
+      }
+    }
+    return found;
+  }
+
+  // f(index) for every point within cell_m of p (and some a little farther), cell by cell, in
+  // index order within a cell.
+  template <typename F>
+  void for_each_near(const Eigen::Vector2d& p, F f) const {
+    if (columns_ == 0) {
+      for (size_t j : all_) f(j);
+      return;
+    }
+    const auto [cx, cy] = cell(p);
+    for (long long dx = -1; dx <= 1; ++dx) {
+      for (long long dy = -1; dy <= 1; ++dy) {
+        const long long x = cx + dx - x0_, y = cy + dy - y0_;
+        if (x < 0 || y < 0 || x >= columns_ || y >= rows_) continue;
+        const size_t k = static_cast<size_t>(x * rows_ + y);
+        for (size_t i = start_[k]; i < start_[k + 1]; ++i) f(indices_[i]);
+      }
+    }
+  }
+  // The same, only in the cells that overlap the box lo..hi (the points for_each_near would
+  // give, in the same order, less those in cells wholly outside the box).
+  template <typename F>
+  void for_each_near_in_box(const Eigen::Vector2d& p, const Eigen::Vector2d& lo,
+                            const Eigen::Vector2d& hi, F f) const {
+    if (columns_ == 0) {
+      for (size_t j : all_) f(j);
+      return;
+    }
+    const auto [cx, cy] = cell(p);
+    const auto [lo_x, lo_y] = cell(lo);
+    const auto [hi_x, hi_y] = cell(hi);
+    for (long long x = std::max(cx - 1, lo_x) - x0_; x <= std::min(cx + 1, hi_x) - x0_; ++x) {
+      for (long long y = std::max(cy - 1, lo_y) - y0_; y <= std::min(cy + 1, hi_y) - y0_; ++y) {
+        if (x < 0 || y < 0 || x >= columns_ || y >= rows_) continue;
+        const size_t k = static_cast<size_t>(x * rows_ + y);
+        for (size_t i = start_[k]; i < start_[k + 1]; ++i) f(indices_[i]);
+      }
+    }
+  }
+
+ private:
+  std::pair<long long, long long> cell(const Eigen::Vector2d& p) const {
+    return {static_cast<long long>(std::floor(p.x() / cell_m_)),
+            static_cast<long long>(std::floor(p.y() / cell_m_))};
+  }
+  size_t slot(long long cx, long long cy) const {
+    return static_cast<size_t>((cx - x0_) * rows_ + (cy - y0_));
+  }
+
+  double cell_m_;
+  long long x0_ = 0, y0_ = 0, columns_ = 0, rows_ = 0;
+  std::vector<size_t> start_;    // the points of cell k: indices_[start_[k] .. start_[k + 1])
+  std::vector<size_t> indices_;  // point indices, cell by cell
+  std::vector<size_t> all_;      // without a dense grid: every point
+};
+
+}  // namespace agv::perception
