@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "perception/autocorrelation.h"
+#include "perception/outlier_limit.h"
 
 namespace agv::perception {
 namespace {
@@ -244,9 +245,7 @@ std::optional<JoinedArcs> fit_one_piece(const std::vector<Eigen::Vector2d>& poin
   std::vector<double> residuals(points.size());
   for (size_t i = 0; i < points.size(); ++i)
     residuals[i] = std::abs(one_piece_residual(c, points[i]));
-  std::vector<double> sorted = residuals;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double limit = outlier_sigmas * std::max(1e-6, 1.4826 * sorted[sorted.size() / 2]);
+  const double limit = outlier_limit(residuals, outlier_sigmas);
   int kept = static_cast<int>(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     if (residuals[i] <= limit) continue;
@@ -297,12 +296,10 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   std::vector<double> residuals;
   for (const Eigen::Vector2d& p : points)
     residuals.push_back(std::abs(basis(p.x(), xb).dot(model.c) - p.y()));
-  std::vector<double> sorted = residuals;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double sigma = std::max(1e-6, 1.4826 * sorted[sorted.size() / 2]);
+  const double limit = outlier_limit(residuals, options.outlier_sigmas);
   int kept = 0;
   for (size_t i = 0; i < points.size(); ++i) {
-    use[i] = residuals[i] <= options.outlier_sigmas * sigma;
+    use[i] = residuals[i] <= limit;
     kept += use[i] ? 1 : 0;
   }
   if (kept < static_cast<int>(points.size()))
