@@ -181,14 +181,7 @@ double CurveModel::signed_distance(const Eigen::Vector2d& p) const {
 }
 
 double CurveModel::arc_position(const Eigen::Vector2d& p) const {
-  const Eigen::Vector2d q = p - foot_point();
-  const double along = q.dot(tangent());
-  const double k = curvature_1_m;
-  if (std::abs(k) < 1e-9) return along;
-  // Angle swept around the centre from the foot point to the ray through p.
-  const double across = q.dot(normal());
-  const double swept = std::atan2(k * along, 1.0 - k * across);
-  return swept / k;
+  return prepared().arc_position(p);
 }
 
 Eigen::Vector2d CurveModel::point_at(double s_m) const {

@@ -45,6 +45,17 @@ struct CurveModel {
     Eigen::Vector2d foot, tangent, normal;
     double curvature_1_m;
     double e_d_m;
+    // CurveModel::arc_position, the heading's trigonometry done once.
+    double arc_position(const Eigen::Vector2d& p) const {
+      const Eigen::Vector2d q = p - foot;
+      const double along = q.dot(tangent);
+      const double k = curvature_1_m;
+      if (std::abs(k) < 1e-9) return along;
+      // Angle swept around the centre from the foot point to the ray through p.
+      const double across = q.dot(normal);
+      const double swept = std::atan2(k * along, 1.0 - k * across);
+      return swept / k;
+    }
     double signed_distance(const Eigen::Vector2d& p) const {
       const Eigen::Vector2d q = p - foot;
       const double u = q.dot(normal);

@@ -14,29 +14,6 @@ namespace agv::perception {
 
 namespace {
 
-// curve.tangent_at(curve.arc_position(p)) for many points p: the same operations, with the
-// curve's foot point, tangent and normal worked out once.
-class TangentNear {
- public:
-  explicit TangentNear(const CurveModel& curve)
-      : curve_(curve),
-        foot_(curve.foot_point()),
-        tangent_(curve.tangent()),
-        normal_(curve.normal()) {}
-  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
-    const Eigen::Vector2d q = p - foot_;
-    const double along = q.dot(tangent_), k = curve_.curvature_1_m;
-    const double s_m =
-        std::abs(k) < 1e-9 ? along : std::atan2(k * along, 1.0 - k * q.dot(normal_)) / k;
-    const double yaw = curve_.heading_rad + k * s_m;
-    return {std::cos(yaw), std::sin(yaw)};
-  }
-
- private:
-  CurveModel curve_;
-  Eigen::Vector2d foot_, tangent_, normal_;
-};
-
 // The evidence for the registration: each remembered point's nearest evidence point, and the
 // tape's local course there, worked out once when first asked for: the evidence within the
 // neighbourhood in a frame along its principal direction, fitted with n = a + b t + c t^2, c
@@ -63,7 +40,7 @@ class EvidenceIndex {
                 double neighbourhood_m)
       : evidence_(evidence),
         line_(line),
-        line_tangent_near_(line),
+        prepared_line_(line.prepared()),
         neighbourhood_m_(neighbourhood_m),
         grid_(evidence, neighbourhood_m),
         fine_grid_(evidence, fine_cell_m(evidence, neighbourhood_m)),
@@ -116,7 +93,7 @@ class EvidenceIndex {
     // The bend of the line in view: its curvature turns its own direction to the left, and the
     // normal here lies to the right of the tangent, so a left turn along the tangent bends
     // towards -normal. Then the offset and slope that fit the points with that bend.
-    const double along = course.tangent.dot(line_tangent_near_(mean));
+    const double along = course.tangent.dot(line_.tangent_at(prepared_line_.arc_position(mean)));
     course.n_of_t[2] = -0.5 * line_.curvature_1_m * (along >= 0.0 ? 1.0 : -1.0);
     Eigen::Matrix2d ata = Eigen::Matrix2d::Zero();
     Eigen::Vector2d aty = Eigen::Vector2d::Zero();
@@ -136,7 +113,7 @@ class EvidenceIndex {
  private:
   const std::vector<Eigen::Vector2d>& evidence_;
   CurveModel line_;  // the line in view the evidence belongs to
-  TangentNear line_tangent_near_;
+  CurveModel::Prepared prepared_line_;
   double neighbourhood_m_;
   PointGrid grid_;
   // For the nearest point: cells a quarter of the neighbourhood, or as small as the evidence's
@@ -751,10 +728,9 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& de
     sides.push_back(std::abs(side_distance) < w ? 0.0 : side_distance > 0.0 ? 1.0 : -1.0);
   }
   const CurveModel::Prepared& followed = curves[detection.followed];
-  const TangentNear tangent_near(line.model);
   for (int index : line.chords) {
     const Chord& chord = detection.chords[index];
-    const Eigen::Vector2d ahead = tangent_near(chord.centre());
+    const Eigen::Vector2d ahead = line.model.tangent_at(followed.arc_position(chord.centre()));
     const Eigen::Vector2d normal(-ahead.y(), ahead.x());
     const double width_m = std::abs(normal.dot(chord.a - chord.b));
     if (width_m <= w + kOverlapMin_m || width_m >= 2.0 * w) continue;
@@ -793,7 +769,6 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
                                        ? line.clean_chords
                                        : line.chords;
   const CurveModel::Prepared model = line.model.prepared();
-  const TangentNear tangent_near(line.model);
   std::vector<CurveModel::Prepared> others;  // every line, prepared once
   for (const DetectedLine& other : detection.lines) others.push_back(other.model.prepared());
   std::vector<Eigen::Vector2d> evidence;
@@ -801,7 +776,7 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
     if (overlapping[index]) continue;
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d middle = chord.centre();
-    const Eigen::Vector2d ahead = tangent_near(middle);
+    const Eigen::Vector2d ahead = line.model.tangent_at(model.arc_position(middle));
     // A scan line crosses a bend obliquely: the middle of its chord lies inside the tape's centre
     // line (by up to w^2 / 8R, 0.07 mm for 25 mm tape on R 0.3 m, and changing from frame to
     // frame with the angle of the crossing). The centre is where the distance from the fitted
