@@ -95,42 +95,37 @@ class PointGrid {
   // index order within a cell.
   template <typename F>
   void for_each_near(const Eigen::Vector2d& p, F f) const {
-    if (columns_ == 0) {
-      for (size_t j : all_) f(j);
-      return;
-    }
     const auto [cx, cy] = cell(p);
-    for (long long dx = -1; dx <= 1; ++dx) {
-      for (long long dy = -1; dy <= 1; ++dy) {
-        const long long x = cx + dx - x0_, y = cy + dy - y0_;
-        if (x < 0 || y < 0 || x >= columns_ || y >= rows_) continue;
-        const size_t k = static_cast<size_t>(x * rows_ + y);
-        for (size_t i = start_[k]; i < start_[k + 1]; ++i) f(indices_[i]);
-      }
-    }
+    visit_cells(cx - 1, cx + 1, cy - 1, cy + 1, f);
   }
   // The same, only in the cells that overlap the box lo..hi (the points for_each_near would
   // give, in the same order, less those in cells wholly outside the box).
   template <typename F>
   void for_each_near_in_box(const Eigen::Vector2d& p, const Eigen::Vector2d& lo,
                             const Eigen::Vector2d& hi, F f) const {
+    const auto [cx, cy] = cell(p);
+    const auto [lo_x, lo_y] = cell(lo);
+    const auto [hi_x, hi_y] = cell(hi);
+    visit_cells(std::max(cx - 1, lo_x), std::min(cx + 1, hi_x), std::max(cy - 1, lo_y),
+                std::min(cy + 1, hi_y), f);
+  }
+
+ private:
+  // f(index) for the points of cells x_from..x_to, y_from..y_to (cell coordinates), column by
+  // column, in index order within a cell; without a dense grid, for every point.
+  template <typename F>
+  void visit_cells(long long x_from, long long x_to, long long y_from, long long y_to, F f) const {
     if (columns_ == 0) {
       for (size_t j : all_) f(j);
       return;
     }
-    const auto [cx, cy] = cell(p);
-    const auto [lo_x, lo_y] = cell(lo);
-    const auto [hi_x, hi_y] = cell(hi);
-    for (long long x = std::max(cx - 1, lo_x) - x0_; x <= std::min(cx + 1, hi_x) - x0_; ++x) {
-      for (long long y = std::max(cy - 1, lo_y) - y0_; y <= std::min(cy + 1, hi_y) - y0_; ++y) {
-        if (x < 0 || y < 0 || x >= columns_ || y >= rows_) continue;
+    for (long long x = std::max(x_from - x0_, 0LL); x <= std::min(x_to - x0_, columns_ - 1); ++x) {
+      for (long long y = std::max(y_from - y0_, 0LL); y <= std::min(y_to - y0_, rows_ - 1); ++y) {
         const size_t k = static_cast<size_t>(x * rows_ + y);
         for (size_t i = start_[k]; i < start_[k + 1]; ++i) f(indices_[i]);
       }
     }
   }
-
- private:
   std::pair<long long, long long> cell(const Eigen::Vector2d& p) const {
     return {static_cast<long long>(std::floor(p.x() / cell_m_)),
             static_cast<long long>(std::floor(p.y() / cell_m_))};
