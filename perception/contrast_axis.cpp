@@ -49,26 +49,44 @@ cv::Vec3d pixel(const cv::Mat& frame, int y, int x) {
   return {static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2])};
 }
 
+// Squared colour distances from `floor` (integers up to 3 * 255^2; a grey level counts for its
+// three channels) of one row's `cols` pixels, and their square roots rounded down. A float's
+// square root of an integer below 2^24 is rounded down to the same integer as the exact one: it
+// is exact at perfect squares, and below one it stays more than 1 / 900 under it, far more than
+// its rounding error.
+AGV_VECTOR_CLONES
+void colour_distances(const unsigned char* row, int cols, int channels, const int floor[3],
+                      int* distance_sq, int* distance) {
+  for (int x = 0; x < cols; ++x) {
+    int sum = 0;
+    if (channels == 1) {
+      const int d = row[x] - floor[0];
+      sum = 3 * d * d;
+    } else {
+      const int b = row[3 * x] - floor[0], g = row[3 * x + 1] - floor[1],
+                r = row[3 * x + 2] - floor[2];
+      sum = b * b + g * g + r * r;
+    }
+    distance_sq[x] = sum;
+    distance[x] = static_cast<int>(std::sqrt(static_cast<float>(sum)));
+  }
+}
+
 // Mean offset from the floor colour of the pixels that differ most from it, on the side
 // (darker / lighter / which hue) where most of them lie.
 std::optional<cv::Vec3d> dominant_outlier_offset(const cv::Mat& frame, const cv::Vec3d& floor) {
   const int channels = frame.channels();
   const size_t n = frame.total();
-  // Squared colour distances (integers up to 3 * 255^2) and a histogram of their square roots.
-  std::vector<int> distance_sq(n);
+  // Squared colour distances and a histogram of their square roots (rounded down).
+  std::vector<int> distance_sq(n), distance(frame.cols);
   std::vector<int> histogram(443, 0);
+  const int floor_level[3] = {static_cast<int>(floor[0]), static_cast<int>(floor[1]),
+                              static_cast<int>(floor[2])};
   size_t i = 0;
-  for (int y = 0; y < frame.rows; ++y) {
-    const unsigned char* row = frame.ptr<unsigned char>(y);
-    for (int x = 0; x < frame.cols; ++x, ++i) {
-      int sum = 0;
-      for (int c = 0; c < channels; ++c) {
-        const int d = row[x * channels + c] - static_cast<int>(floor[c]);
-        sum += d * d;
-      }
-      distance_sq[i] = channels == 1 ? 3 * sum : sum;
-      ++histogram[static_cast<int>(std::sqrt(static_cast<double>(distance_sq[i])))];
-    }
+  for (int y = 0; y < frame.rows; ++y, i += frame.cols) {
+    colour_distances(frame.ptr<unsigned char>(y), frame.cols, channels, floor_level,
+                     &distance_sq[i], distance.data());
+    for (int x = 0; x < frame.cols; ++x) ++histogram[distance[x]];
   }
   const size_t keep = std::max<size_t>(8, static_cast<size_t>(n * kOutlierFraction));
   if (n <= keep) return std::nullopt;

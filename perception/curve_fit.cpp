@@ -74,30 +74,76 @@ Scored score(const CurveModel& m, const std::vector<Observation>& obs, double th
   return s;
 }
 
+// The observations one refinement uses, packed for its passes over them.
+struct UsedObservations {
+  std::vector<double> x, y, offset;
+};
+
+UsedObservations used_observations(const std::vector<Observation>& obs,
+                                   const std::vector<bool>& use) {
+  UsedObservations used;
+  for (size_t i = 0; i < obs.size(); ++i) {
+    if (!use[i]) continue;
+    used.x.push_back(obs[i].p.x());
+    used.y.push_back(obs[i].p.y());
+    used.offset.push_back(obs[i].offset);
+  }
+  return used;
+}
+
 // Cauchy cost of a model and its Gauss-Newton normal equations (weights 1 / (1 + (r/scale)^2)),
-// in one pass over the observations marked in `use`.
+// in one pass over the observations.
 struct Linearised {
   double cost = 0.0;
   Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
   Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
 };
 
-Linearised linearise(const CurveModel& model, const std::vector<Observation>& obs,
-                     const std::vector<bool>& use, bool free_curvature, double scale) {
-  Linearised l;
+Linearised linearise(const CurveModel& model, const UsedObservations& obs, bool free_curvature,
+                     double scale) {
   const CurveModel::Prepared curve = model.prepared();
   const double inverse_scale2 = 1.0 / (scale * scale);
-  for (size_t i = 0; i < obs.size(); ++i) {
-    if (!use[i]) continue;
-    Eigen::Vector3d j;
-    const double r = curve.signed_distance(obs[i].p, &j) - obs[i].offset;
-    if (!free_curvature) j[2] = 0.0;
+  // The Cauchy loss is sum log(1 + z): log1p of the product of 1 + z, less 1 (kept so, for
+  // precision at small z), over up to 16 observations at a time; a product that overflows is
+  // summed term by term instead.
+  constexpr int kProductTerms = 16;
+  double cost = 0.0, product_less_1 = 0.0;
+  int terms = 0;
+  double j00 = 0, j01 = 0, j02 = 0, j11 = 0, j12 = 0, j22 = 0, r0 = 0, r1 = 0, r2 = 0;
+  const size_t n = obs.x.size();
+  for (size_t i = 0; i < n; ++i) {
+    Eigen::Vector3d g;
+    const double r = curve.signed_distance({obs.x[i], obs.y[i]}, &g) - obs.offset[i];
+    const double g0 = g[0], g1 = g[1], g2 = free_curvature ? g[2] : 0.0;
     const double z = r * r * inverse_scale2;
-    l.cost += std::log1p(z);  // the Cauchy loss whose weights are used
     const double w = 1.0 / (1.0 + z);
-    l.jtj += w * j * j.transpose();
-    l.jtr += w * j * r;
+    product_less_1 += z + product_less_1 * z;
+    if (++terms == kProductTerms || i + 1 == n) {
+      if (std::isfinite(product_less_1)) {
+        cost += std::log1p(product_less_1);
+      } else {
+        for (size_t j = i + 1 - terms; j <= i; ++j) {
+          const double rj = curve.signed_distance({obs.x[j], obs.y[j]}) - obs.offset[j];
+          cost += std::log1p(rj * rj * inverse_scale2);
+        }
+      }
+      product_less_1 = 0.0;
+      terms = 0;
+    }
+    j00 += w * g0 * g0;
+    j01 += w * g0 * g1;
+    j02 += w * g0 * g2;
+    j11 += w * g1 * g1;
+    j12 += w * g1 * g2;
+    j22 += w * g2 * g2;
+    r0 += w * g0 * r;
+    r1 += w * g1 * r;
+    r2 += w * g2 * r;
   }
+  Linearised l;
+  l.cost = cost;
+  l.jtj << j00, j01, j02, j01, j11, j12, j02, j12, j22;
+  l.jtr << r0, r1, r2;
   if (!free_curvature) l.jtj(2, 2) = 1.0;
   return l;
 }
@@ -106,9 +152,10 @@ Linearised linearise(const CurveModel& model, const std::vector<Observation>& ob
 // curvature held, with Cauchy weights of scale `scale`. A step is taken only if it lowers the
 // weighted cost; otherwise the damping grows. Returns the normal matrix at the solution (for the
 // covariance).
-Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs,
+Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& all,
                        const std::vector<bool>& use, bool free_curvature, double scale) {
-  Linearised current = linearise(*m, obs, use, free_curvature, scale);
+  const UsedObservations obs = used_observations(all, use);
+  Linearised current = linearise(*m, obs, free_curvature, scale);
   double lambda = 1e-3;
   for (int iteration = 0; iteration < 12; ++iteration) {
     bool improved = false;
@@ -121,7 +168,7 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& obs,
       trial.e_d_m += step[0];
       trial.heading_rad = wrap_angle_rad(trial.heading_rad + step[1]);
       if (free_curvature) trial.curvature_1_m += step[2];
-      Linearised at_trial = linearise(trial, obs, use, free_curvature, scale);
+      Linearised at_trial = linearise(trial, obs, free_curvature, scale);
       if (at_trial.cost <= current.cost) {
         *m = trial;
         current = at_trial;
