@@ -7,6 +7,7 @@
 #include <opencv2/core.hpp>
 
 #include "common/angles.h"
+#include "common/vector_clones.h"
 #include "perception/autocorrelation.h"
 
 namespace agv::perception {
@@ -74,9 +75,12 @@ Scored score(const CurveModel& m, const std::vector<Observation>& obs, double th
   return s;
 }
 
-// The observations one refinement uses, packed for its passes over them.
+// The observations one refinement uses, packed for its passes over them, and per observation
+// what a pass works out (residual r, gradient g of the signed distance, z = (r / scale)^2 and
+// the Cauchy weight w = 1 / (1 + z)).
 struct UsedObservations {
   std::vector<double> x, y, offset;
+  std::vector<double> r, g0, g1, g2, z, w;
 };
 
 UsedObservations used_observations(const std::vector<Observation>& obs,
@@ -88,7 +92,24 @@ UsedObservations used_observations(const std::vector<Observation>& obs,
     used.y.push_back(obs[i].p.y());
     used.offset.push_back(obs[i].offset);
   }
+  for (std::vector<double>* v : {&used.r, &used.g0, &used.g1, &used.g2, &used.z, &used.w})
+    v->resize(used.x.size());
   return used;
+}
+
+// The per-observation part of a pass over n observations (x, y, offset): no sums across them,
+// so that it vectorises (restrict parameters: GCC does not trust restrict on local pointers).
+AGV_VECTOR_CLONES
+void residuals_and_weights(const CurveModel::Prepared curve, double inverse_scale2, size_t n,
+                           const double* __restrict x, const double* __restrict y,
+                           const double* __restrict offset, double* __restrict r,
+                           double* __restrict g0, double* __restrict g1, double* __restrict g2,
+                           double* __restrict z, double* __restrict w) {
+  for (size_t i = 0; i < n; ++i) {
+    r[i] = curve.signed_distance(x[i], y[i], &g0[i], &g1[i], &g2[i]) - offset[i];
+    z[i] = r[i] * r[i] * inverse_scale2;
+    w[i] = 1.0 / (1.0 + z[i]);
+  }
 }
 
 // Cauchy cost of a model and its Gauss-Newton normal equations (weights 1 / (1 + (r/scale)^2)),
@@ -99,10 +120,11 @@ struct Linearised {
   Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
 };
 
-Linearised linearise(const CurveModel& model, const UsedObservations& obs, bool free_curvature,
+Linearised linearise(const CurveModel& model, UsedObservations* obs, bool free_curvature,
                      double scale) {
-  const CurveModel::Prepared curve = model.prepared();
-  const double inverse_scale2 = 1.0 / (scale * scale);
+  residuals_and_weights(model.prepared(), 1.0 / (scale * scale), obs->x.size(), obs->x.data(),
+                        obs->y.data(), obs->offset.data(), obs->r.data(), obs->g0.data(),
+                        obs->g1.data(), obs->g2.data(), obs->z.data(), obs->w.data());
   // The Cauchy loss is sum log(1 + z): log1p of the product of 1 + z, less 1 (kept so, for
   // precision at small z), over up to 16 observations at a time; a product that overflows is
   // summed term by term instead.
@@ -110,26 +132,21 @@ Linearised linearise(const CurveModel& model, const UsedObservations& obs, bool 
   double cost = 0.0, product_less_1 = 0.0;
   int terms = 0;
   double j00 = 0, j01 = 0, j02 = 0, j11 = 0, j12 = 0, j22 = 0, r0 = 0, r1 = 0, r2 = 0;
-  const size_t n = obs.x.size();
+  const size_t n = obs->x.size();
   for (size_t i = 0; i < n; ++i) {
-    Eigen::Vector3d g;
-    const double r = curve.signed_distance({obs.x[i], obs.y[i]}, &g) - obs.offset[i];
-    const double g0 = g[0], g1 = g[1], g2 = free_curvature ? g[2] : 0.0;
-    const double z = r * r * inverse_scale2;
-    const double w = 1.0 / (1.0 + z);
+    const double z = obs->z[i];
     product_less_1 += z + product_less_1 * z;
     if (++terms == kProductTerms || i + 1 == n) {
       if (std::isfinite(product_less_1)) {
         cost += std::log1p(product_less_1);
       } else {
-        for (size_t j = i + 1 - terms; j <= i; ++j) {
-          const double rj = curve.signed_distance({obs.x[j], obs.y[j]}) - obs.offset[j];
-          cost += std::log1p(rj * rj * inverse_scale2);
-        }
+        for (size_t j = i + 1 - terms; j <= i; ++j) cost += std::log1p(obs->z[j]);
       }
       product_less_1 = 0.0;
       terms = 0;
     }
+    const double w = obs->w[i], r = obs->r[i];
+    const double g0 = obs->g0[i], g1 = obs->g1[i], g2 = free_curvature ? obs->g2[i] : 0.0;
     j00 += w * g0 * g0;
     j01 += w * g0 * g1;
     j02 += w * g0 * g2;
@@ -154,8 +171,8 @@ Linearised linearise(const CurveModel& model, const UsedObservations& obs, bool 
 // covariance).
 Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& all,
                        const std::vector<bool>& use, bool free_curvature, double scale) {
-  const UsedObservations obs = used_observations(all, use);
-  Linearised current = linearise(*m, obs, free_curvature, scale);
+  UsedObservations obs = used_observations(all, use);
+  Linearised current = linearise(*m, &obs, free_curvature, scale);
   double lambda = 1e-3;
   for (int iteration = 0; iteration < 12; ++iteration) {
     bool improved = false;
@@ -168,7 +185,7 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& all,
       trial.e_d_m += step[0];
       trial.heading_rad = wrap_angle_rad(trial.heading_rad + step[1]);
       if (free_curvature) trial.curvature_1_m += step[2];
-      Linearised at_trial = linearise(trial, obs, free_curvature, scale);
+      Linearised at_trial = linearise(trial, &obs, free_curvature, scale);
       if (at_trial.cost <= current.cost) {
         *m = trial;
         current = at_trial;

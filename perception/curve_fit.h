@@ -70,11 +70,13 @@ struct CurveModel {
     //   du/de_d = 1, dr2/de_d = 2u;   du/dh = -p.t, dr2/dh = -2 e_d p.t;   dA/dk = -r^2,
     //   dS/dk = (k r^2 - u) / S;  for e_d and h: dA = 2 du - k dr2, dS = (-2k du + k^2 dr2) / (2S);
     //   dd = (dA - d dS) / (1 + S)  (the divisions by S and 1 + S done once).
-    double signed_distance(const Eigen::Vector2d& p, Eigen::Vector3d* gradient) const {
-      const double pn = p.dot(normal), pt = p.dot(tangent);
+    double signed_distance(double px, double py, double* d_e_d, double* d_heading,
+                           double* d_curvature) const {
+      const double pn = px * normal.x() + py * normal.y();
+      const double pt = px * tangent.x() + py * tangent.y();
       const double k = curvature_1_m;
       const double u = pn + e_d_m;
-      const double r2 = p.squaredNorm() + 2.0 * e_d_m * pn + e_d_m * e_d_m;
+      const double r2 = px * px + py * py + 2.0 * e_d_m * pn + e_d_m * e_d_m;
       const double a = 2.0 * u - k * r2;
       const double s = std::sqrt(std::max(1e-12, 1.0 - 2.0 * k * u + k * k * r2));
       const double inverse_b = 1.0 / (1.0 + s), inverse_s = 1.0 / s;
@@ -84,10 +86,13 @@ struct CurveModel {
         const double ds = 0.5 * (-2.0 * k * du + k * k * dr2) * inverse_s;
         return (da - d * ds) * inverse_b;
       };
-      (*gradient)[0] = derivative(1.0, 2.0 * u);
-      (*gradient)[1] = derivative(-pt, -2.0 * e_d_m * pt);
-      (*gradient)[2] = (-r2 - d * (k * r2 - u) * inverse_s) * inverse_b;
+      *d_e_d = derivative(1.0, 2.0 * u);
+      *d_heading = derivative(-pt, -2.0 * e_d_m * pt);
+      *d_curvature = (-r2 - d * (k * r2 - u) * inverse_s) * inverse_b;
       return d;
+    }
+    double signed_distance(const Eigen::Vector2d& p, Eigen::Vector3d* gradient) const {
+      return signed_distance(p.x(), p.y(), &(*gradient)[0], &(*gradient)[1], &(*gradient)[2]);
     }
   };
   Prepared prepared() const { return {foot_point(), tangent(), normal(), curvature_1_m, e_d_m}; }
