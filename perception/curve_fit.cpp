@@ -42,59 +42,69 @@ double residual(const CurveModel::Prepared& curve, const Observation& o) {
   return curve.signed_distance(o.p) - o.offset;
 }
 
-struct Scored {
-  std::vector<bool> observation_inliers;
-  int count = 0;           // inlier observations
-  double rms = 0.0;        // robust scale (1.4826 x median |r|): for confidence
-  double plain_rms = 0.0;  // root mean square: for uncertainties, which the tails belong to
-};
-
-Scored score(const CurveModel& m, const std::vector<Observation>& obs, double threshold) {
-  Scored s;
-  s.observation_inliers.assign(obs.size(), false);
-  double sum = 0.0;
-  const CurveModel::Prepared curve = m.prepared();
-  std::vector<double> magnitudes;  // of the inliers' residuals
-  magnitudes.reserve(obs.size());
-  for (size_t i = 0; i < obs.size(); ++i) {
-    const double r = residual(curve, obs[i]);
-    if (std::abs(r) > threshold) continue;
-    s.observation_inliers[i] = true;
-    ++s.count;
-    sum += r * r;
-    magnitudes.push_back(std::abs(r));
-  }
-  s.plain_rms = s.count ? std::sqrt(sum / s.count) : 0.0;
-  // A robust scale: 1.4826 x the median absolute residual of the inliers (inliers within a
-  // generous band still include some far edges of merged chords).
-  if (!magnitudes.empty()) {
-    std::nth_element(magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2,
-                     magnitudes.end());
-    s.rms = 1.4826 * magnitudes[magnitudes.size() / 2];
-  }
-  return s;
-}
-
-// The observations one refinement uses, packed for its passes over them, and per observation
-// what a pass works out (residual r, gradient g of the signed distance, z = (r / scale)^2 and
-// the Cauchy weight w = 1 / (1 + z)).
-struct UsedObservations {
+// Observations packed for passes over them, and per observation what a pass works out
+// (residual r; for a Gauss-Newton pass the gradient g of the signed distance, z = (r / scale)^2
+// and the Cauchy weight w = 1 / (1 + z)).
+struct Packed {
   std::vector<double> x, y, offset;
   std::vector<double> r, g0, g1, g2, z, w;
 };
 
-UsedObservations used_observations(const std::vector<Observation>& obs,
-                                   const std::vector<bool>& use) {
-  UsedObservations used;
+// The observations marked in `use` (all without it), packed.
+Packed packed(const std::vector<Observation>& obs, const std::vector<bool>* use = nullptr) {
+  Packed out;
   for (size_t i = 0; i < obs.size(); ++i) {
-    if (!use[i]) continue;
-    used.x.push_back(obs[i].p.x());
-    used.y.push_back(obs[i].p.y());
-    used.offset.push_back(obs[i].offset);
+    if (use && !(*use)[i]) continue;
+    out.x.push_back(obs[i].p.x());
+    out.y.push_back(obs[i].p.y());
+    out.offset.push_back(obs[i].offset);
   }
-  for (std::vector<double>* v : {&used.r, &used.g0, &used.g1, &used.g2, &used.z, &used.w})
-    v->resize(used.x.size());
-  return used;
+  out.r.resize(out.x.size());
+  return out;
+}
+
+// Residuals of n observations (x, y, offset) from a curve, in a loop that vectorises (restrict
+// parameters: GCC does not trust restrict on local pointers).
+AGV_VECTOR_CLONES
+void residuals(const CurveModel::Prepared curve, size_t n, const double* __restrict x,
+               const double* __restrict y, const double* __restrict offset, double* __restrict r) {
+  for (size_t i = 0; i < n; ++i) r[i] = curve.signed_distance(x[i], y[i]) - offset[i];
+}
+
+struct Scored {
+  std::vector<bool> observation_inliers;
+  int count = 0;           // inlier observations
+  double plain_rms = 0.0;  // root mean square: for uncertainties, which the tails belong to
+  std::vector<double> magnitudes;  // of the inliers' residuals, in no particular order
+};
+
+// The observations within `threshold` of a model (all of them, packed).
+Scored score(const CurveModel& m, Packed* all, double threshold) {
+  const size_t n = all->x.size();
+  residuals(m.prepared(), n, all->x.data(), all->y.data(), all->offset.data(), all->r.data());
+  Scored s;
+  s.observation_inliers.assign(n, false);
+  s.magnitudes.reserve(n);
+  double sum = 0.0;
+  for (size_t i = 0; i < n; ++i) {
+    const double r = all->r[i];
+    if (std::abs(r) > threshold) continue;
+    s.observation_inliers[i] = true;
+    ++s.count;
+    sum += r * r;
+    s.magnitudes.push_back(std::abs(r));
+  }
+  s.plain_rms = s.count ? std::sqrt(sum / s.count) : 0.0;
+  return s;
+}
+
+// A robust scale of the inliers' residuals: 1.4826 x their median magnitude (inliers within a
+// generous band still include some far edges of merged chords); for confidence.
+double robust_scale(Scored* s) {
+  if (s->magnitudes.empty()) return 0.0;
+  const auto middle = s->magnitudes.begin() + s->magnitudes.size() / 2;
+  std::nth_element(s->magnitudes.begin(), middle, s->magnitudes.end());
+  return 1.4826 * *middle;
 }
 
 // The per-observation part of a pass over n observations (x, y, offset): no sums across them,
@@ -120,8 +130,9 @@ struct Linearised {
   Eigen::Vector3d jtr = Eigen::Vector3d::Zero();
 };
 
-Linearised linearise(const CurveModel& model, UsedObservations* obs, bool free_curvature,
-                     double scale) {
+Linearised linearise(const CurveModel& model, Packed* obs, bool free_curvature, double scale) {
+  for (std::vector<double>* v : {&obs->g0, &obs->g1, &obs->g2, &obs->z, &obs->w})
+    v->resize(obs->x.size());
   residuals_and_weights(model.prepared(), 1.0 / (scale * scale), obs->x.size(), obs->x.data(),
                         obs->y.data(), obs->offset.data(), obs->r.data(), obs->g0.data(),
                         obs->g1.data(), obs->g2.data(), obs->z.data(), obs->w.data());
@@ -171,7 +182,7 @@ Linearised linearise(const CurveModel& model, UsedObservations* obs, bool free_c
 // covariance).
 Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& all,
                        const std::vector<bool>& use, bool free_curvature, double scale) {
-  UsedObservations obs = used_observations(all, use);
+  Packed obs = packed(all, &use);
   Linearised current = linearise(*m, &obs, free_curvature, scale);
   double lambda = 1e-3;
   for (int iteration = 0; iteration < 12; ++iteration) {
@@ -315,6 +326,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
     }
   }
   const int m_obs = static_cast<int>(obs.size());
+  Packed all = packed(obs);
   // Score hypotheses on at most ~400 observations; refine on all.
   const int stride = std::max(1, m_obs / 400);
   const double t = options.inlier_threshold_m, t2 = t * t;
@@ -362,12 +374,12 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   if (!std::isfinite(best_cost)) return fit;
 
   // Refine: curvature free, then kept only if significant.
-  Scored scored = score(best, obs, t);
+  Scored scored = score(best, &all, t);
   CurveModel model = best;
   Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
   for (int round = 0; round < 4 && scored.count >= 3; ++round) {
     normal = refine(&model, obs, scored.observation_inliers, /*free_curvature=*/true, t / 2.0);
-    Scored next = score(model, obs, t);
+    Scored next = score(model, &all, t);
     const bool settled = next.observation_inliers == scored.observation_inliers;
     scored = std::move(next);
     if (settled) break;
@@ -377,16 +389,16 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   // off, which pull the curvature at Cauchy weights of that scale. Refine once more on the
   // observations within 4 robust sigmas (at least 0.3 mm) at that scale, when some lie beyond;
   // the inlier set reported stays the wide one.
-  const double fine_m = std::clamp(4.0 * scored.rms, 0.0003, t);
+  const double fine_m = std::clamp(4.0 * robust_scale(&scored), 0.0003, t);
   if (fine_m < t) {
-    const Scored fine = score(model, obs, fine_m);
+    const Scored fine = score(model, &all, fine_m);
     if (fine.count < scored.count && fine.count >= std::max(3, scored.count / 2)) {
       CurveModel tight = model;
       const Eigen::Matrix3d tight_normal =
           refine(&tight, obs, fine.observation_inliers, /*free_curvature=*/true, fine_m / 2.0);
       model = tight;
       normal = tight_normal;
-      scored = score(model, obs, t);
+      scored = score(model, &all, t);
     }
   }
   // Residuals along a tape are correlated (floor texture, wear span many scan lines): the
@@ -401,7 +413,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
     model.curvature_1_m = 0.0;
     for (int round = 0; round < 3; ++round) {
       refine(&model, obs, scored.observation_inliers, /*free_curvature=*/false, t / 2.0);
-      Scored next = score(model, obs, t);
+      Scored next = score(model, &all, t);
       const bool settled = next.observation_inliers == scored.observation_inliers;
       scored = std::move(next);
       if (settled || scored.count < 3) break;
@@ -425,7 +437,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   model = oriented(model, centroid, options.forward);
   fit.ok = true;
   fit.model = model;
-  fit.rms_m = scored.rms;
+  fit.rms_m = robust_scale(&scored);
   fit.s_min_m = std::numeric_limits<double>::infinity();
   fit.s_max_m = -fit.s_min_m;
   for (size_t i = 0; i < points.size(); ++i) {

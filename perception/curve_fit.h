@@ -56,14 +56,15 @@ struct CurveModel {
       const double swept = std::atan2(k * along, 1.0 - k * across);
       return swept / k;
     }
-    double signed_distance(const Eigen::Vector2d& p) const {
-      const Eigen::Vector2d q = p - foot;
-      const double u = q.dot(normal);
-      const double r2 = q.squaredNorm();
+    double signed_distance(double px, double py) const {
+      const double qx = px - foot.x(), qy = py - foot.y();
+      const double u = qx * normal.x() + qy * normal.y();
+      const double r2 = qx * qx + qy * qy;
       const double k = curvature_1_m;
       const double root = std::sqrt(std::max(0.0, 1.0 - 2.0 * k * u + k * k * r2));
       return (2.0 * u - k * r2) / (1.0 + root);
     }
+    double signed_distance(const Eigen::Vector2d& p) const { return signed_distance(p.x(), p.y()); }
     // The same, with its gradient with respect to (e_d, heading, curvature). With u = p.n + e_d,
     // r^2 = |p|^2 + 2 e_d p.n + e_d^2, A = 2u - k r^2, S = sqrt(1 - 2ku + k^2 r^2), d = A / (1 +
     // S):
