@@ -100,11 +100,22 @@ float half_way_level(const std::vector<float>& profile, float e) {
   return sum / (2 * kEdgeNear);
 }
 
+// The medians of a profile window's outermost `side` samples at each end.
+struct WindowEnds {
+  float first, second;
+};
+WindowEnds window_ends(const std::vector<float>& profile, int side, std::vector<float>* scratch) {
+  const int count = static_cast<int>(profile.size());
+  return {median_of(profile.data(), profile.data() + side, scratch),
+          median_of(profile.data() + count - side, profile.data() + count, scratch)};
+}
+
 // The tape's two edges on one contrast profile whose samples [run_lo, run_hi] hold the tape
 // (its peak is searched there only; the flanks may hold other tape), with at least 2 * side
 // floor samples beyond each edge: the places where the profile crosses half-way between the
 // local floor level (each side separately: the median of its outermost `side` samples) and the
-// tape level next to that edge. Positions are sub-pixel sample indices.
+// tape level next to that edge (`ends`, from window_ends). Positions are sub-pixel sample
+// indices.
 struct ProfileEdges {
   float first = 0.0f, second = 0.0f;
   float contrast = 0.0f;  // tape level minus floor level
@@ -112,11 +123,9 @@ struct ProfileEdges {
 
 std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile, int run_lo,
                                                int run_hi, int side, int max_dip,
-                                               float min_contrast, std::vector<float>* scratch) {
+                                               float min_contrast, const WindowEnds& ends) {
   const int count = static_cast<int>(profile.size());
-  const float floor_first = median_of(profile.data(), profile.data() + side, scratch);
-  const float floor_second =
-      median_of(profile.data() + count - side, profile.data() + count, scratch);
+  const float floor_first = ends.first, floor_second = ends.second;
   const int peak = static_cast<int>(
       std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) - profile.begin());
   // Tape level: mean of the samples in the upper half between floor and peak. It sets the
@@ -219,17 +228,13 @@ void contrast_profile(const cv::Mat& frame, const ContrastAxis& axis, bool along
 }
 
 // Whether each end of a profile window lies on the tape rather than the floor: the median of its
-// outermost `side` samples is within a quarter of the contrast from the peak of the run
+// outermost samples (`ends`) is within a quarter of the contrast from the peak of the run
 // [run_lo, run_hi].
 std::pair<bool, bool> window_ends_on_tape(const std::vector<float>& profile, int run_lo, int run_hi,
-                                          int side, std::vector<float>* scratch) {
-  const int count = static_cast<int>(profile.size());
-  const float end_first = median_of(profile.data(), profile.data() + side, scratch);
-  const float end_second =
-      median_of(profile.data() + count - side, profile.data() + count, scratch);
+                                          const WindowEnds& ends) {
   const float peak = *std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1);
-  const float near_peak = peak - 0.25f * (peak - std::min(end_first, end_second));
-  return {end_first > near_peak, end_second > near_peak};
+  const float near_peak = peak - 0.25f * (peak - std::min(ends.first, ends.second));
+  return {ends.first > near_peak, ends.second > near_peak};
 }
 
 EdgePair edge_pair(const ProfileEdges& found, int lo, int line, bool along_rows) {
@@ -263,8 +268,13 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
   std::vector<float> raw, profile, scratch;
   std::vector<Run> runs;
 
+  int runs_small_line = -1;  // the downsampled line `runs` were found on
   for (int line = first_line; line <= last_line; line += options.step) {
-    runs_on_line(labels, std::min(line / ds, small_lines - 1), along_rows, region.label, &runs);
+    const int small_line = std::min(line / ds, small_lines - 1);
+    if (small_line != runs_small_line) {
+      runs_on_line(labels, small_line, along_rows, region.label, &runs);
+      runs_small_line = small_line;
+    }
     for (const Run& run : runs) {
       // Up to `reach` beyond the run on each side, within the image; at least a few floor
       // samples are needed beyond each edge, else the edge is unknowable.
@@ -274,8 +284,9 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
       contrast_profile(frame, axis, along_rows, line, lo, hi - lo + 1, &raw, &profile);
       // The coarse run may hold only one end of the tape's width (next to a shadow's edge, say):
       // a window ending on the tape is widened on that side once, by twice the flank.
+      WindowEnds ends = window_ends(profile, side, &scratch);
       const auto [first_on_tape, second_on_tape] =
-          window_ends_on_tape(profile, run.lo * ds - lo, run.hi * ds + ds - 1 - lo, side, &scratch);
+          window_ends_on_tape(profile, run.lo * ds - lo, run.hi * ds + ds - 1 - lo, ends);
       if (first_on_tape || second_on_tape) {
         const int wider_lo = first_on_tape ? std::max(0, lo - 2 * reach) : lo;
         const int wider_hi = second_on_tape ? std::min(line_length - 1, hi + 2 * reach) : hi;
@@ -283,13 +294,14 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
           lo = wider_lo;
           hi = wider_hi;
           contrast_profile(frame, axis, along_rows, line, lo, hi - lo + 1, &raw, &profile);
+          ends = window_ends(profile, side, &scratch);
         }
       }
       const int count = hi - lo + 1;
       const int run_lo = std::max(0, run.lo * ds - lo),
                 run_hi = std::min(count - 1, run.hi * ds + ds - 1 - lo);
-      const auto found = find_profile_edges(profile, run_lo, run_hi, side, options.max_dip_px,
-                                            min_contrast, &scratch);
+      const auto found =
+          find_profile_edges(profile, run_lo, run_hi, side, options.max_dip_px, min_contrast, ends);
       if (found) edges.push_back(edge_pair(*found, lo, line, along_rows));
     }
   }
@@ -423,15 +435,13 @@ std::optional<EdgePair> scan_band_line(const cv::Mat& frame, const ContrastAxis&
   contrast_profile(frame, axis, along_rows, line, lo, count, &buffers->raw, &profile);
   ++counts->windows;
   // Tape (about 1) rather than floor (about 0) at either end of the window.
-  const float end_first = median_of(profile.data(), profile.data() + side, &buffers->scratch);
-  const float end_second =
-      median_of(profile.data() + count - side, profile.data() + count, &buffers->scratch);
-  if (std::max(end_first, end_second) > 0.5f) {
+  const WindowEnds ends = window_ends(profile, side, &buffers->scratch);
+  if (std::max(ends.first, ends.second) > 0.5f) {
     ++counts->covered;
     return std::nullopt;
   }
-  const auto found = find_profile_edges(profile, run_lo - lo, run_hi - lo, side, max_dip,
-                                        band.min_contrast, &buffers->scratch);
+  const auto found =
+      find_profile_edges(profile, run_lo - lo, run_hi - lo, side, max_dip, band.min_contrast, ends);
   if (!found) return std::nullopt;
   return edge_pair(*found, lo, line, along_rows);
 }
