@@ -337,6 +337,9 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   // the threshold, log(1 - 0.999) / log(1 - w^3) draws would have found an all-inlier sample.
   int needed = options.ransac_iterations;
   const int sampled = (m_obs + stride - 1) / stride;
+  std::vector<bool> in_sample(obs.size(), false);  // the observations hypotheses are scored on
+  for (int k = 0; k < m_obs && !initial; k += stride) in_sample[k] = true;
+  Packed sample = packed(obs, &in_sample);
   if (initial) {
     best = *initial;
     best_cost = 0.0;
@@ -355,9 +358,10 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
     if (!model || std::abs(model->curvature_1_m) > options.max_curvature_1_m) continue;
     double cost = 0.0;
     int within = 0;
-    const CurveModel::Prepared curve = model->prepared();
-    for (int k = 0; k < m_obs; k += stride) {
-      const double r2 = std::pow(residual(curve, obs[k]), 2);
+    residuals(model->prepared(), sample.x.size(), sample.x.data(), sample.y.data(),
+              sample.offset.data(), sample.r.data());
+    for (const double r : sample.r) {
+      const double r2 = r * r;
       cost += std::min(r2, t2);
       if (r2 <= t2) ++within;
     }
