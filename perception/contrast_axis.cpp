@@ -10,6 +10,32 @@
 namespace agv::perception {
 namespace {
 
+AGV_VECTOR_CLONES
+void apply_to_bgr(const unsigned char* __restrict bgr, int n, float w0, float w1, float w2,
+                  float offset, float* __restrict out) {
+  for (int x = 0; x < n; ++x)
+    out[x] = w0 * bgr[3 * x] + w1 * bgr[3 * x + 1] + w2 * bgr[3 * x + 2] + offset;
+}
+
+AGV_VECTOR_CLONES
+void apply_to_grey(const unsigned char* __restrict grey, int n, float w0, float offset,
+                   float* __restrict out) {
+  for (int x = 0; x < n; ++x) out[x] = w0 * grey[x] + offset;
+}
+
+}  // namespace
+
+void ContrastAxis::apply_to_row(const unsigned char* pixels, int n, int channels,
+                                float* out) const {
+  if (channels == 1) {
+    apply_to_grey(pixels, n, weights[0], offset, out);
+  } else {
+    apply_to_bgr(pixels, n, weights[0], weights[1], weights[2], offset, out);
+  }
+}
+
+namespace {
+
 constexpr double kMinColourDistance = 12.0;  // grey levels: below this a hint is not usable
 constexpr double kOutlierFraction = 0.04;    // share of pixels taken as tape candidates
 

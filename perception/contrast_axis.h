@@ -18,6 +18,9 @@ struct ContrastAxis {
     return weights[0] * bgr[0] + weights[1] * bgr[1] + weights[2] * bgr[2] + offset;
   }
   float apply(unsigned char grey) const { return weights[0] * grey + offset; }
+  // apply() to n consecutive pixels of `channels` (1 or 3) bytes each: the same values, in a
+  // loop that vectorises.
+  void apply_to_row(const unsigned char* pixels, int n, int channels, float* out) const;
 };
 
 // Estimates the axis from a (downsampled) frame: the floor colour is the per-channel median

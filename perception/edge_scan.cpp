@@ -20,6 +20,10 @@ float median_of(const float* first, const float* last, std::vector<float>* scrat
 void sample_contrast(const unsigned char* first, size_t stride, int count, int channels,
                      const ContrastAxis& axis, std::vector<float>* out) {
   out->resize(count);
+  if (stride == static_cast<size_t>(channels)) {  // along a row
+    axis.apply_to_row(first, count, channels, out->data());
+    return;
+  }
   for (int i = 0; i < count; ++i) {
     const unsigned char* p = first + i * stride;
     (*out)[i] =

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "common/vector_clones.h"
+
 namespace agv::perception {
 namespace {
 
@@ -15,6 +17,12 @@ constexpr float kBinWidth = (kHigh - kLow) / kBins;
 int bin_of(float value) {
   return std::min(kBins - 1, std::max(0, static_cast<int>((value - kLow) / kBinWidth)));
 }
+// bin_of for n values, in a loop that vectorises.
+AGV_VECTOR_CLONES
+void bins_of(const float* __restrict values, int n, int* __restrict bins) {
+  for (int i = 0; i < n; ++i) bins[i] = bin_of(values[i]);
+}
+
 float value_of(double bin) { return kLow + static_cast<float>(bin + 0.5) * kBinWidth; }
 
 // Median of the values in bins [first, last).
@@ -44,41 +52,27 @@ float histogram_quantile(const std::vector<int>& histogram, double q) {
 
 cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
   cv::Mat contrast(frame.size(), CV_32F);
-  for (int y = 0; y < frame.rows; ++y) {
-    float* out = contrast.ptr<float>(y);
-    if (frame.channels() == 1) {
-      const unsigned char* in = frame.ptr<unsigned char>(y);
-      for (int x = 0; x < frame.cols; ++x) out[x] = axis.apply(in[x]);
-    } else {
-      const cv::Vec3b* in = frame.ptr<cv::Vec3b>(y);
-      for (int x = 0; x < frame.cols; ++x) out[x] = axis.apply(in[x]);
-    }
-  }
+  for (int y = 0; y < frame.rows; ++y)
+    axis.apply_to_row(frame.ptr<unsigned char>(y), frame.cols, frame.channels(),
+                      contrast.ptr<float>(y));
   return contrast;
 }
 
 // Mean over `width` samples centred on each sample, along rows (horizontal) or columns, with
 // the edge samples repeated beyond the border; running sums (in double, in the order of the
-// samples), O(1) per sample. Along columns, the sums of all columns run together, row by row.
+// samples), O(1) per sample. The sums of all columns run together, row by row; along rows, on
+// the transposed samples (one running sum at a time waits for each addition before the next).
 cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
-  cv::Mat out(s.size(), CV_32F);
-  const int n = horizontal ? s.cols : s.rows, before = (width - 1) / 2, after = width - 1 - before;
-  const double inverse_width = 1.0 / width;
   if (horizontal) {
-    std::vector<double> prefix(n + width + 1);
-    for (int y = 0; y < s.rows; ++y) {
-      const float* row = s.ptr<float>(y);
-      float* o = out.ptr<float>(y);
-      prefix[0] = 0.0;
-      for (int i = 0; i < n + width; ++i) {
-        const int x = std::clamp(i - before, 0, n - 1);  // padded sample i is row[x]
-        prefix[i + 1] = prefix[i] + row[x];
-      }
-      for (int x = 0; x < n; ++x)
-        o[x] = static_cast<float>((prefix[x + before + after + 1] - prefix[x]) * inverse_width);
-    }
+    cv::Mat transposed;
+    cv::transpose(s, transposed);
+    cv::Mat out;
+    cv::transpose(box_mean(transposed, width, false), out);
     return out;
   }
+  cv::Mat out(s.size(), CV_32F);
+  const int n = s.rows, before = (width - 1) / 2, after = width - 1 - before;
+  const double inverse_width = 1.0 / width;
   const int cols = s.cols;
   cv::Mat prefix(n + width + 1, cols, CV_64F);
   prefix.row(0).setTo(0.0);
@@ -141,11 +135,17 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   }
   const cv::Mat& s = result.bar_small;
 
-  std::vector<int> histogram(kBins, 0);
+  // Four interleaved histograms: the floor's values fall into a few bins, and one counter
+  // incremented again and again waits for its own last store.
+  std::vector<int> histograms(4 * kBins, 0), bins(s.cols);
   for (int y = 0; y < s.rows; ++y) {
-    const float* row = s.ptr<float>(y);
-    for (int x = 0; x < s.cols; ++x) ++histogram[bin_of(row[x])];
+    bins_of(s.ptr<float>(y), s.cols, bins.data());
+    for (int x = 0; x < s.cols; ++x) ++histograms[(x & 3) * kBins + bins[x]];
   }
+  std::vector<int> histogram(kBins, 0);
+  for (int b = 0; b < kBins; ++b)
+    histogram[b] = histograms[b] + histograms[kBins + b] + histograms[2 * kBins + b] +
+                   histograms[3 * kBins + b];
   // ISODATA on the bar response: the threshold settles half-way between the medians of the two
   // classes. It never drops below 0.25 (a quarter of the nominal tape contrast), so that floor
   // texture alone is not called tape on a tape-free frame, nor below half-way between the
