@@ -76,5 +76,26 @@ TEST(ContrastAxis, TheBarNotTheShadowChoosesTheAxis) {
   EXPECT_LT(axis->apply(bgr(shadow)), 0.5);
 }
 
+// A row at once gives what each pixel gives alone (the scan's and the regions' contrast come
+// from it), bit for bit: colour and grey rows, of lengths that leave a vector loop's tail.
+TEST(ContrastAxis, ARowAtOnceIsEachPixelAlone) {
+  ContrastAxis axis;
+  axis.weights = cv::Vec3f(0.013f, -0.021f, 0.0047f);
+  axis.offset = -0.37f;
+  cv::RNG rng(7);
+  for (int n : {1, 7, 33, 160}) {
+    cv::Mat colour(1, n, CV_8UC3), grey(1, n, CV_8UC1);
+    rng.fill(colour, cv::RNG::UNIFORM, 0, 256);
+    rng.fill(grey, cv::RNG::UNIFORM, 0, 256);
+    std::vector<float> from_colour(n), from_grey(n);
+    axis.apply_to_row(colour.ptr<unsigned char>(), n, 3, from_colour.data());
+    axis.apply_to_row(grey.ptr<unsigned char>(), n, 1, from_grey.data());
+    for (int x = 0; x < n; ++x) {
+      EXPECT_EQ(from_colour[x], axis.apply(colour.at<cv::Vec3b>(0, x))) << "colour, x " << x;
+      EXPECT_EQ(from_grey[x], axis.apply(grey.at<unsigned char>(0, x))) << "grey, x " << x;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace agv::perception
