@@ -104,19 +104,26 @@ std::optional<cv::Vec3d> dominant_outlier_offset(const cv::Mat& frame, const cv:
   const int channels = frame.channels();
   const size_t n = frame.total();
   // Squared colour distances and a histogram of their square roots (rounded down).
+  // (Four interleaved histograms: most pixels fall into a few bins, and one counter incremented
+  // again and again waits for its own last store.)
+  constexpr int kBins = 443;
   std::vector<int> distance_sq(n), distance(frame.cols);
-  std::vector<int> histogram(443, 0);
+  std::vector<int> histograms(4 * kBins, 0);
   const int floor_level[3] = {static_cast<int>(floor[0]), static_cast<int>(floor[1]),
                               static_cast<int>(floor[2])};
   size_t i = 0;
   for (int y = 0; y < frame.rows; ++y, i += frame.cols) {
     colour_distances(frame.ptr<unsigned char>(y), frame.cols, channels, floor_level,
                      &distance_sq[i], distance.data());
-    for (int x = 0; x < frame.cols; ++x) ++histogram[distance[x]];
+    for (int x = 0; x < frame.cols; ++x) ++histograms[(x & 3) * kBins + distance[x]];
   }
+  std::vector<int> histogram(kBins, 0);
+  for (int b = 0; b < kBins; ++b)
+    histogram[b] = histograms[b] + histograms[kBins + b] + histograms[2 * kBins + b] +
+                   histograms[3 * kBins + b];
   const size_t keep = std::max<size_t>(8, static_cast<size_t>(n * kOutlierFraction));
   if (n <= keep) return std::nullopt;
-  int cutoff = 442;
+  int cutoff = kBins - 1;
   for (size_t above = 0; cutoff > 0 && (above += histogram[cutoff]) < keep;) --cutoff;
   const int cutoff_sq = cutoff * cutoff;
 
@@ -269,19 +276,25 @@ class Distribution {
   double quantile(double q) const {
     return solve([&](double v) { return count_below(v); }, q * n_, lo_, lo_ + kBins * width_);
   }
-  // The value a full sort puts at floor(q n), exactly: bins follow the values' order (float
-  // rounding is monotonic), so the histogram says which bin holds it and a partial sort of
-  // that bin's few values finds it.
-  double order_statistic(double q) const {
-    const int k = static_cast<int>(std::min(size_ - 1, static_cast<size_t>(q * size_)));
-    const int b =
-        static_cast<int>(std::upper_bound(below_.begin(), below_.end(), k) - below_.begin()) - 1;
-    std::vector<float> in_bin;
-    for (size_t i = 0; i < size_; ++i)
-      if (bin(values_[i]) == b) in_bin.push_back(values_[i]);
-    const auto at = in_bin.begin() + (k - below_[b]);
-    std::nth_element(in_bin.begin(), at, in_bin.end());
-    return *at;
+  // The values a full sort puts at floor(q n) and floor(r n), exactly: bins follow the values'
+  // order (float rounding is monotonic), so the histogram says which bin holds each and a
+  // partial sort of that bin's few values finds it (both bins' values taken in one pass).
+  std::pair<double, double> order_statistics(double q, double r) const {
+    const int k[2] = {rank(q), rank(r)};
+    const int b[2] = {bin_of_rank(k[0]), bin_of_rank(k[1])};
+    std::vector<float> in_bin[2];
+    for (size_t i = 0; i < size_; ++i) {
+      const int value_bin = bin(values_[i]);
+      for (int j = 0; j < 2; ++j)
+        if (value_bin == b[j]) in_bin[j].push_back(values_[i]);
+    }
+    double statistic[2];
+    for (int j = 0; j < 2; ++j) {
+      const auto at = in_bin[j].begin() + (k[j] - below_[b[j]]);
+      std::nth_element(in_bin[j].begin(), at, in_bin[j].end());
+      statistic[j] = *at;
+    }
+    return {statistic[0], statistic[1]};
   }
   // The radius about `centre` that holds half the values.
   double median_absolute_deviation(double centre) const {
@@ -291,6 +304,13 @@ class Distribution {
 
  private:
   static constexpr int kBins = 1024;
+  int rank(double q) const {
+    return static_cast<int>(std::min(size_ - 1, static_cast<size_t>(q * size_)));
+  }
+  // The bin that holds the value of rank k.
+  int bin_of_rank(int k) const {
+    return static_cast<int>(std::upper_bound(below_.begin(), below_.end(), k) - below_.begin()) - 1;
+  }
   int bin(float value) const {
     return std::min(kBins - 1, static_cast<int>((value - lo_) * inverse_width_));
   }
@@ -434,7 +454,8 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
     // The tape's contrast along d, about: the response's 99.5 % point above its median (the
     // elements a full sort puts at floor(q n)).
     const Distribution levels(response);
-    const double level = levels.order_statistic(0.995) - levels.order_statistic(0.5);
+    const auto [peak, middle] = levels.order_statistics(0.995, 0.5);
+    const double level = peak - middle;
     ContrastAxis axis;
     if (channels == 1) {
       axis.weights = cv::Vec3f(static_cast<float>(d[0] * std::sqrt(3.0) / level), 0.0f, 0.0f);
