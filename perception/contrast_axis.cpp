@@ -191,15 +191,55 @@ std::optional<ContrastAxis> estimate_contrast_axis(const cv::Mat& frame,
 
 namespace {
 
+// bar_response_samples along columns (below).
+cv::Mat bar_response_down_columns(const cv::Mat& frame, int channel, int bar, int flank,
+                                  int offset) {
+  const int channels = frame.channels();
+  const int length = frame.rows, pad = bar + offset + flank;
+  const int columns = (frame.cols + 1) / 2;  // every second column
+  // sums(i, j): the sum of column 2j's values at rows -pad .. i - pad - 1, clamped into the image.
+  cv::Mat sums(length + 2 * pad + 1, columns, CV_32S);
+  sums.row(0).setTo(0);
+  for (int i = 0; i < length + 2 * pad; ++i) {
+    const unsigned char* row = frame.ptr<unsigned char>(std::clamp(i - pad, 0, length - 1));
+    const int* previous = sums.ptr<int>(i);
+    int* next = sums.ptr<int>(i + 1);
+    for (int j = 0; j < columns; ++j) next[j] = previous[j] + row[2 * j * channels + channel];
+  }
+  const float inverse_bar = 1.0f / bar, inverse_flank = 1.0f / flank;
+  cv::Mat out((frame.rows + 1) / 2, columns, CV_32F);
+  for (int x = 0; x < length; x += 2) {
+    // The windows of `size` rows whose middle (size / 2) is at row x, and at x -+ offset.
+    const int from_bar = x - bar / 2 + pad;
+    const int from_before = std::max(0, x - offset) - flank / 2 + pad;
+    const int from_after = std::min(length - 1, x + offset) - flank / 2 + pad;
+    const int* bar_low = sums.ptr<int>(from_bar);
+    const int* bar_high = sums.ptr<int>(from_bar + bar);
+    const int* before_low = sums.ptr<int>(from_before);
+    const int* before_high = sums.ptr<int>(from_before + flank);
+    const int* after_low = sums.ptr<int>(from_after);
+    const int* after_high = sums.ptr<int>(from_after + flank);
+    float* o = out.ptr<float>(x / 2);
+    for (int j = 0; j < columns; ++j) {
+      o[j] = static_cast<float>(bar_high[j] - bar_low[j]) * inverse_bar -
+             0.5f * (static_cast<float>(before_high[j] - before_low[j]) * inverse_flank +
+                     static_cast<float>(after_high[j] - after_low[j]) * inverse_flank);
+    }
+  }
+  return out;
+}
+
 // Linear bar response of one channel of an 8-bit frame along rows (horizontal) or columns, at
 // every second sample of every second row (packed, (rows + 1) / 2 x (cols + 1) / 2): the mean
 // over the bar minus the mean of the two flanks of half its width, beyond it; the image's edge
 // repeated outwards. The box means come from running sums over each scanned line (the same
-// values as OpenCV's blur with the anchor at the window's middle, at a fraction of its cost).
+// values as OpenCV's blur with the anchor at the window's middle, at a fraction of its cost);
+// along columns, the running sums of all scanned columns go together, row by row.
 cv::Mat bar_response_samples(const cv::Mat& frame, int channel, int bar, bool horizontal) {
   const int channels = frame.channels();
   const int flank = std::max(1, bar / 2);
   const int offset = (bar + flank + 1) / 2;
+  if (!horizontal) return bar_response_down_columns(frame, channel, bar, flank, offset);
   const int length = horizontal ? frame.cols : frame.rows;
   const int lines = horizontal ? frame.rows : frame.cols;
   const int pad = bar + offset + flank;
