@@ -277,6 +277,14 @@ cv::Mat bar_response_samples(const cv::Mat& frame, int channel, int bar, bool ho
   return out;
 }
 
+// The bins min(max_bin, (v - lo) x inverse_width) of n values v, in a loop that vectorises.
+AGV_VECTOR_CLONES
+void bins_of(const float* __restrict values, size_t n, float lo, float inverse_width, int max_bin,
+             int* __restrict bins) {
+  for (size_t i = 0; i < n; ++i)
+    bins[i] = std::min(max_bin, static_cast<int>((values[i] - lo) * inverse_width));
+}
+
 // The distribution of a set of values as a 1024-bin histogram over their range, the values
 // spread evenly within each bin: quantiles and the median absolute deviation off the exact
 // order statistics by less than a bin (1/1024 of the range), far below the noise they are
@@ -291,16 +299,12 @@ class Distribution {
     lo_ = static_cast<float>(lo);
     width_ = std::max(1e-12, (hi - lo) / kBins);
     inverse_width_ = static_cast<float>(1.0 / width_);
+    bins_.resize(size_);
+    bins_of(values_, size_, lo_, inverse_width_, kBins - 1, bins_.data());
     // Four interleaved histograms: floor values fall into a few bins, and one counter
     // incremented again and again waits for its own last store.
     std::vector<int> counts(4 * kBins, 0);
-    const float* v = values_;
-    const size_t n = size_;
-    size_t i = 0;
-    for (; i + 4 <= n; i += 4) {
-      for (int lane = 0; lane < 4; ++lane) ++counts[lane * kBins + bin(v[i + lane])];
-    }
-    for (; i < n; ++i) ++counts[bin(v[i])];
+    for (size_t i = 0; i < size_; ++i) ++counts[(i & 3) * kBins + bins_[i]];
     below_.resize(kBins + 1, 0);
     for (int b = 0; b < kBins; ++b)
       below_[b + 1] =
@@ -324,9 +328,8 @@ class Distribution {
     const int b[2] = {bin_of_rank(k[0]), bin_of_rank(k[1])};
     std::vector<float> in_bin[2];
     for (size_t i = 0; i < size_; ++i) {
-      const int value_bin = bin(values_[i]);
       for (int j = 0; j < 2; ++j)
-        if (value_bin == b[j]) in_bin[j].push_back(values_[i]);
+        if (bins_[i] == b[j]) in_bin[j].push_back(values_[i]);
     }
     double statistic[2];
     for (int j = 0; j < 2; ++j) {
@@ -351,9 +354,6 @@ class Distribution {
   int bin_of_rank(int k) const {
     return static_cast<int>(std::upper_bound(below_.begin(), below_.end(), k) - below_.begin()) - 1;
   }
-  int bin(float value) const {
-    return std::min(kBins - 1, static_cast<int>((value - lo_) * inverse_width_));
-  }
   // x in [lo, hi] where the non-decreasing f reaches target (bisection to well below a bin).
   template <typename F>
   static double solve(F f, double target, double lo, double hi) {
@@ -369,6 +369,7 @@ class Distribution {
   float lo_ = 0.0f;
   double width_ = 1.0;
   float inverse_width_ = 1.0f;
+  std::vector<int> bins_;   // each value's bin
   std::vector<int> below_;  // below_[b]: the values in bins before b
 };
 
