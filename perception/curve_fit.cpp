@@ -9,6 +9,7 @@
 #include "common/angles.h"
 #include "common/vector_clones.h"
 #include "perception/autocorrelation.h"
+#include "perception/log1p_sum.h"
 
 namespace agv::perception {
 namespace {
@@ -136,26 +137,9 @@ Linearised linearise(const CurveModel& model, Packed* obs, bool free_curvature, 
   residuals_and_weights(model.prepared(), 1.0 / (scale * scale), obs->x.size(), obs->x.data(),
                         obs->y.data(), obs->offset.data(), obs->r.data(), obs->g0.data(),
                         obs->g1.data(), obs->g2.data(), obs->z.data(), obs->w.data());
-  // The Cauchy loss is sum log(1 + z): log1p of the product of 1 + z, less 1 (kept so, for
-  // precision at small z), over up to 16 observations at a time; a product that overflows is
-  // summed term by term instead.
-  constexpr int kProductTerms = 16;
-  double cost = 0.0, product_less_1 = 0.0;
-  int terms = 0;
   double j00 = 0, j01 = 0, j02 = 0, j11 = 0, j12 = 0, j22 = 0, r0 = 0, r1 = 0, r2 = 0;
   const size_t n = obs->x.size();
   for (size_t i = 0; i < n; ++i) {
-    const double z = obs->z[i];
-    product_less_1 += z + product_less_1 * z;
-    if (++terms == kProductTerms || i + 1 == n) {
-      if (std::isfinite(product_less_1)) {
-        cost += std::log1p(product_less_1);
-      } else {
-        for (size_t j = i + 1 - terms; j <= i; ++j) cost += std::log1p(obs->z[j]);
-      }
-      product_less_1 = 0.0;
-      terms = 0;
-    }
     const double w = obs->w[i], r = obs->r[i];
     const double g0 = obs->g0[i], g1 = obs->g1[i], g2 = free_curvature ? obs->g2[i] : 0.0;
     j00 += w * g0 * g0;
@@ -169,7 +153,7 @@ Linearised linearise(const CurveModel& model, Packed* obs, bool free_curvature, 
     r2 += w * g2 * r;
   }
   Linearised l;
-  l.cost = cost;
+  l.cost = log1p_sum(obs->z.data(), n);  // the Cauchy loss whose weights are used
   l.jtj << j00, j01, j02, j01, j11, j12, j02, j12, j22;
   l.jtr << r0, r1, r2;
   if (!free_curvature) l.jtj(2, 2) = 1.0;
