@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "common/bin_counts.h"
 #include "common/vector_clones.h"
 
 namespace agv::perception {
@@ -104,23 +105,16 @@ std::optional<cv::Vec3d> dominant_outlier_offset(const cv::Mat& frame, const cv:
   const int channels = frame.channels();
   const size_t n = frame.total();
   // Squared colour distances and a histogram of their square roots (rounded down).
-  // (Four interleaved histograms: most pixels fall into a few bins, and one counter incremented
-  // again and again waits for its own last store.)
   constexpr int kBins = 443;
-  std::vector<int> distance_sq(n), distance(frame.cols);
-  std::vector<int> histograms(4 * kBins, 0);
+  std::vector<int> distance_sq(n), distance(n);
   const int floor_level[3] = {static_cast<int>(floor[0]), static_cast<int>(floor[1]),
                               static_cast<int>(floor[2])};
   size_t i = 0;
   for (int y = 0; y < frame.rows; ++y, i += frame.cols) {
     colour_distances(frame.ptr<unsigned char>(y), frame.cols, channels, floor_level,
-                     &distance_sq[i], distance.data());
-    for (int x = 0; x < frame.cols; ++x) ++histograms[(x & 3) * kBins + distance[x]];
+                     &distance_sq[i], &distance[i]);
   }
-  std::vector<int> histogram(kBins, 0);
-  for (int b = 0; b < kBins; ++b)
-    histogram[b] = histograms[b] + histograms[kBins + b] + histograms[2 * kBins + b] +
-                   histograms[3 * kBins + b];
+  const std::vector<int> histogram = bin_counts(distance.data(), n, kBins);
   const size_t keep = std::max<size_t>(8, static_cast<size_t>(n * kOutlierFraction));
   if (n <= keep) return std::nullopt;
   int cutoff = kBins - 1;
@@ -301,14 +295,9 @@ class Distribution {
     inverse_width_ = static_cast<float>(1.0 / width_);
     bins_.resize(size_);
     bins_of(values_, size_, lo_, inverse_width_, kBins - 1, bins_.data());
-    // Four interleaved histograms: floor values fall into a few bins, and one counter
-    // incremented again and again waits for its own last store.
-    std::vector<int> counts(4 * kBins, 0);
-    for (size_t i = 0; i < size_; ++i) ++counts[(i & 3) * kBins + bins_[i]];
+    const std::vector<int> counts = bin_counts(bins_.data(), size_, kBins);
     below_.resize(kBins + 1, 0);
-    for (int b = 0; b < kBins; ++b)
-      below_[b + 1] =
-          below_[b] + counts[b] + counts[kBins + b] + counts[2 * kBins + b] + counts[3 * kBins + b];
+    for (int b = 0; b < kBins; ++b) below_[b + 1] = below_[b] + counts[b];
   }
   // How many values lie at or below v.
   double count_below(double v) const {

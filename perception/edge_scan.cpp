@@ -117,8 +117,8 @@ WindowEnds window_ends(const std::vector<float>& profile, int side, std::vector<
 // The tape's two edges on one contrast profile whose samples [run_lo, run_hi] hold the tape
 // (its peak is searched there only; the flanks may hold other tape), with at least 2 * side
 // floor samples beyond each edge: the places where the profile crosses half-way between the
-// local floor level (each side separately: the median of its outermost `side` samples) and the
-// tape level next to that edge (`ends`, from window_ends). Positions are sub-pixel sample
+// local floor level (each side separately: `ends`, the medians of its outermost `side` samples
+// from window_ends) and the tape level next to that edge. Positions are sub-pixel sample
 // indices.
 struct ProfileEdges {
   float first = 0.0f, second = 0.0f;

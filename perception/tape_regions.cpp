@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "common/bin_counts.h"
 #include "common/vector_clones.h"
 
 namespace agv::perception {
@@ -135,17 +136,9 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   }
   const cv::Mat& s = result.bar_small;
 
-  // Four interleaved histograms: the floor's values fall into a few bins, and one counter
-  // incremented again and again waits for its own last store.
-  std::vector<int> histograms(4 * kBins, 0), bins(s.cols);
-  for (int y = 0; y < s.rows; ++y) {
-    bins_of(s.ptr<float>(y), s.cols, bins.data());
-    for (int x = 0; x < s.cols; ++x) ++histograms[(x & 3) * kBins + bins[x]];
-  }
-  std::vector<int> histogram(kBins, 0);
-  for (int b = 0; b < kBins; ++b)
-    histogram[b] = histograms[b] + histograms[kBins + b] + histograms[2 * kBins + b] +
-                   histograms[3 * kBins + b];
+  std::vector<int> bins(s.total());
+  for (int y = 0; y < s.rows; ++y) bins_of(s.ptr<float>(y), s.cols, &bins[y * s.cols]);
+  const std::vector<int> histogram = bin_counts(bins.data(), bins.size(), kBins);
   // ISODATA on the bar response: the threshold settles half-way between the medians of the two
   // classes. It never drops below 0.25 (a quarter of the nominal tape contrast), so that floor
   // texture alone is not called tape on a tape-free frame, nor below half-way between the
