@@ -7,7 +7,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "perception/contrast_axis.h"
-#include "perception/joined_arcs_fit.h"
 #include "perception/nearest_piece.h"
 #include "perception/one_edge_line.h"
 #include "perception/tape_regions.h"
