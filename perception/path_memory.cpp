@@ -864,7 +864,19 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   }
   tape_heading_rad_.reset();
   if (std::optional<LineMeasurement> forward = carried_forward(carried_back)) return *forward;
+  if (std::optional<LineMeasurement> held = course_held(carried_back)) return *held;
   return carried_back;
+}
+
+std::optional<LineMeasurement> PathMemory::course_held(const LineMeasurement& carried_back) const {
+  if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.hold_course_m)
+    return std::nullopt;
+  const CurveModel course = last_course_now();
+  if (std::abs(carried_back.e_d_m - course.e_d_m) <= options_.hold_course_offset_m)
+    return std::nullopt;
+  LineMeasurement held = with_model(carried_back, course);
+  held.extrapolated = true;
+  return held;
 }
 
 void PathMemory::remember_heading(const LineMeasurement& m) {

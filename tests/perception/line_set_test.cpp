@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <fstream>
 #include <opencv2/core.hpp>
+#include <sstream>
 
 namespace agv::perception {
 namespace {
@@ -77,6 +80,49 @@ TEST(LineSet, WithoutAWidthOnlyATapesWidthIsALine) {
       EXPECT_NEAR(lines[0].width_m, width_m, 0.0002);
     }
   }
+}
+
+}  // namespace
+}  // namespace agv::perception
+
+namespace agv::perception {
+namespace {
+
+// The chords LineEstimator found in a frame of a tangential Y fork (data/tangential_fork: 39 mm
+// tape, the branch leaving to the right on R 0.46 m, its split mid-view). The branch, with the
+// stem's chords, is found first; the way straight on runs within a tape width of it over 0.2 m
+// of the view, and the branch's chords there do not speak against it: both ways are lines.
+// Before they were exempted, the way straight on was refused ("edge points do not lie on one
+// line") in 13 frames running and the branch followed for "straight".
+TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
+  std::ifstream file(std::string(AGV_SOURCE_DIR) +
+                     "/tests/perception/data/tangential_fork/chords.csv");
+  ASSERT_TRUE(file.good());
+  std::vector<Chord> chords;
+  for (std::string row; std::getline(file, row);) {
+    std::replace(row.begin(), row.end(), ',', ' ');
+    std::istringstream in(row);
+    Chord chord;
+    in >> chord.a.x() >> chord.a.y() >> chord.b.x() >> chord.b.y();
+    chords.push_back(chord);
+  }
+  ASSERT_EQ(chords.size(), 896u);
+  LineSetOptions options;  // as LineEstimator set them for this frame (no width configured)
+  options.expected_width_m = 0.0;
+  options.scan_spacing_m = 0.000577;
+  options.fit.inlier_threshold_m = 0.003;
+  std::vector<std::string> rejections;
+  const auto lines = extract_lines(chords, options, &rejections);
+  int straight_on = 0, branch = 0;
+  for (const DetectedLine& line : lines) {
+    // The way straight on: the vehicle drove it within 5 mm and 1 deg so far; straight.
+    if (std::abs(line.model.heading_rad) < 0.03 && std::abs(line.model.curvature_1_m) < 0.2)
+      ++straight_on;
+    // The branch: curving right at about 1 / 0.46 m (the fit's curvature within 15 %).
+    if (std::abs(line.model.curvature_1_m + 1.0 / 0.46) < 0.3) ++branch;
+  }
+  EXPECT_EQ(straight_on, 1) << lines.size() << " lines";
+  EXPECT_EQ(branch, 1) << lines.size() << " lines";
 }
 
 }  // namespace

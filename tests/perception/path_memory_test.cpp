@@ -300,6 +300,37 @@ TEST(PathMemory, AnotherTapeRememberedBesideTheVehicleDoesNotGiveTheErrors) {
   EXPECT_GE(worst_beside_another_tape_m(any_offset), 0.03);
 }
 
+// The same stretch, but the line in view there is that other tape carried back, 50 mm off: the
+// first frames the memory cannot read (within hold_course_m of the last reading) give the
+// course measured under the vehicle carried forward (exact here: straight tape, exact odometry),
+// flagged extrapolated; later ones, the line in view. Without the hold: 50 mm off at once.
+double first_unread_frame_error_m(const PathMemoryOptions& options) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory(options);
+  bool read_before = false;
+  for (int k = 0; k < 70; ++k) {
+    const double s = 0.02 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = s >= 0.85 && s <= 1.15 ? 0.05 : 0.0;  // the truth is 0
+    const LineMeasurement m =
+        memory.update(in_view, seen_from(path, vehicle, s, other_tape_beside_m), vehicle);
+    if (read_before && m.extrapolated && s >= 0.85) return std::abs(m.e_d_m);
+    read_before = read_before || !m.extrapolated;
+  }
+  return -1.0;  // never read, or never refused
+}
+
+TEST(PathMemory, TheCourseIsHeldWhereTheLineInViewJumpsAside) {
+  const double held_m = first_unread_frame_error_m({});
+  EXPECT_GE(held_m, 0.0);
+  EXPECT_LE(held_m, 0.001);
+  PathMemoryOptions no_hold;
+  no_hold.hold_course_m = 0.0;
+  EXPECT_NEAR(first_unread_frame_error_m(no_hold), 0.05, 0.001);
+}
+
 // No odometry: nothing can be remembered; every frame is the line in view, flagged.
 TEST(PathMemory, WithoutOdometryEveryFrameIsExtrapolated) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
