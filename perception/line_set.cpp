@@ -254,7 +254,7 @@ bool runs_inside(const CurveFit& fit, const ChordSet& c,
 }
 
 // Checks a candidate's evidence and makes it a line, or says why not (in `rejections`).
-// `accepted`: the lines accepted before, `explained_by_others` marks their chords.
+// `accepted`: the lines accepted before, `explained_by_others` marks their chords (empty: none).
 std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vector<Chord>& chords,
                                      const ChordSet& c, const LineSetOptions& options,
                                      const std::vector<DetectedLine>& accepted,
@@ -296,9 +296,11 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
     if (std::abs(curve.signed_distance(c.centres[i])) >= std::max(line.width_m, 0.005)) continue;
     ++near;
     // A chord of a line accepted before, where this one's evidence runs alongside it.
-    const bool explained = !fit.inliers[i] && explained_by_others[i] &&
-                           fit.model.arc_position(c.centres[i]) >= fit.s_min_m &&
-                           fit.model.arc_position(c.centres[i]) <= fit.s_max_m;
+    bool explained = !fit.inliers[i] && !explained_by_others.empty() && explained_by_others[i];
+    if (explained) {
+      const double s = fit.model.arc_position(c.centres[i]);
+      explained = s >= fit.s_min_m && s <= fit.s_max_m;
+    }
     if (!explained) ++near_unexplained;
   }
   double inlier_fraction = static_cast<double>(fit.inlier_count) / std::max(1, near);
@@ -475,8 +477,7 @@ std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const C
     if (rejections) rejections->push_back("edge points do not lie on the tracked line");
     return std::nullopt;
   }
-  return evaluate(Candidate{fit, fit.edge_inliers}, chords, c, options, {},
-                  std::vector<bool>(chords.size(), false), rejections);
+  return evaluate(Candidate{fit, fit.edge_inliers}, chords, c, options, {}, {}, rejections);
 }
 
 }  // namespace agv::perception

@@ -869,14 +869,16 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
 }
 
 std::optional<LineMeasurement> PathMemory::course_held(const LineMeasurement& carried_back) const {
-  if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.hold_course_m)
+  if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.hold_course_m ||
+      std::abs(carried_back.e_d_m - last_course_now().e_d_m) <= options_.hold_course_offset_m)
     return std::nullopt;
-  const CurveModel course = last_course_now();
-  if (std::abs(carried_back.e_d_m - course.e_d_m) <= options_.hold_course_offset_m)
-    return std::nullopt;
-  LineMeasurement held = with_model(carried_back, course);
-  held.extrapolated = true;
-  return held;
+  return with_course(carried_back);
+}
+
+LineMeasurement PathMemory::with_course(const LineMeasurement& m) const {
+  LineMeasurement carried = with_model(m, last_course_now());
+  carried.extrapolated = true;
+  return carried;
 }
 
 void PathMemory::remember_heading(const LineMeasurement& m) {
@@ -890,9 +892,7 @@ std::optional<LineMeasurement> PathMemory::course_carried_on(const LineMeasureme
   if (!last_course_ || odometer_m_ - last_course_->odometer_m > options_.carry_forward_m ||
       std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
     return std::nullopt;
-  LineMeasurement carried = with_model(m, last_course_now());
-  carried.extrapolated = true;
-  return carried;
+  return with_course(m);
 }
 
 std::optional<LineMeasurement> PathMemory::carried_forward(

@@ -106,8 +106,9 @@ struct PathMemoryOptions {
   // hold_course_offset_m across from the course measured under the vehicle at most hold_course_m
   // ago: that course carried forward, flagged extrapolated (a fork's other way or another leg
   // taken for the line in a frame or two: agv evaluate seed 1, sequence 6, two frames 60 and 118
-  // mm off; a tape width more instead of 10 mm: seeds 1-8 RMS after 0.5 m 0.545 -> 0.711 mm,
-  // none: 0.755 mm, with the other way at forks found as a line of its own).
+  // mm off; seeds 1-8 RMS after 0.5 m 0.545 mm, against 0.711 mm with a tape width + 10 mm for
+  // hold_course_offset_m and 0.755 mm without the hold, the other way at forks found as a line
+  // of its own).
   double hold_course_m = 0.05;
   double hold_course_offset_m = 0.01;
   // Past a corner the camera loses the tape before the vehicle reaches it: it counts as passed
@@ -253,6 +254,9 @@ class PathMemory {
   // `carried_back` with its errors from the course last measured under the vehicle carried
   // forward, flagged extrapolated, where options_.hold_course_* say so; else nothing.
   std::optional<LineMeasurement> course_held(const LineMeasurement& carried_back) const;
+  // `m` with its errors from the course last measured under the vehicle carried forward to the
+  // origin (last_course_ set), flagged extrapolated.
+  LineMeasurement with_course(const LineMeasurement& m) const;
   // `m` with its errors from the course last measured under the vehicle carried forward to the
   // origin, flagged extrapolated, while that course is curved (at least
   // carry_forward_min_curvature_1_m: a corner's arc) and at most carry_forward_m behind; else
