@@ -223,6 +223,37 @@ cv::Mat bar_response_down_columns(const cv::Mat& frame, int channel, int bar, in
   return out;
 }
 
+// bar_response_samples along rows (below).
+cv::Mat bar_response_along_rows(const cv::Mat& frame, int channel, int bar, int flank, int offset) {
+  const int channels = frame.channels();
+  const int length = frame.cols, pad = bar + offset + flank;
+  cv::Mat out((frame.rows + 1) / 2, (frame.cols + 1) / 2, CV_32F);
+  std::vector<int> sums(length + 2 * pad + 1);
+  const float inverse_bar = 1.0f / bar, inverse_flank = 1.0f / flank;
+  for (int line = 0; line < frame.rows; line += 2) {
+    const unsigned char* first = frame.ptr<unsigned char>(line) + channel;
+    // sums[i]: the sum of the values at positions -pad .. i - pad - 1, clamped into the line.
+    sums[0] = 0;
+    const int before = first[0], after = first[(length - 1) * channels];
+    for (int i = 0; i < pad; ++i) sums[i + 1] = sums[i] + before;
+    for (int at = 0; at < length; ++at) sums[pad + at + 1] = sums[pad + at] + first[at * channels];
+    for (int i = pad + length; i < length + 2 * pad; ++i) sums[i + 1] = sums[i] + after;
+    // The mean of the window of `size` values whose middle (size / 2) is at position x
+    // (times the reciprocal of the size: divisions cost more than the rest of this loop).
+    auto mean = [&](int x, int size, float inverse_size) {
+      const int from = x - size / 2 + pad;
+      return static_cast<float>(sums[from + size] - sums[from]) * inverse_size;
+    };
+    float* o = out.ptr<float>(line / 2);
+    for (int x = 0; x < length; x += 2) {
+      o[x / 2] = mean(x, bar, inverse_bar) -
+                 0.5f * (mean(std::max(0, x - offset), flank, inverse_flank) +
+                         mean(std::min(length - 1, x + offset), flank, inverse_flank));
+    }
+  }
+  return out;
+}
+
 // Linear bar response of one channel of an 8-bit frame along rows (horizontal) or columns, at
 // every second sample of every second row (packed, (rows + 1) / 2 x (cols + 1) / 2): the mean
 // over the bar minus the mean of the two flanks of half its width, beyond it; the image's edge
@@ -230,45 +261,10 @@ cv::Mat bar_response_down_columns(const cv::Mat& frame, int channel, int bar, in
 // values as OpenCV's blur with the anchor at the window's middle, at a fraction of its cost);
 // along columns, the running sums of all scanned columns go together, row by row.
 cv::Mat bar_response_samples(const cv::Mat& frame, int channel, int bar, bool horizontal) {
-  const int channels = frame.channels();
   const int flank = std::max(1, bar / 2);
   const int offset = (bar + flank + 1) / 2;
-  if (!horizontal) return bar_response_down_columns(frame, channel, bar, flank, offset);
-  const int length = horizontal ? frame.cols : frame.rows;
-  const int lines = horizontal ? frame.rows : frame.cols;
-  const int pad = bar + offset + flank;
-  cv::Mat out((frame.rows + 1) / 2, (frame.cols + 1) / 2, CV_32F);
-  std::vector<int> sums(length + 2 * pad + 1);
-  for (int line = 0; line < lines; line += 2) {
-    const unsigned char* first = horizontal
-                                     ? frame.ptr<unsigned char>(line) + channel
-                                     : frame.ptr<unsigned char>(0) + line * channels + channel;
-    const size_t step = horizontal ? channels : frame.step[0];
-    // sums[i]: the sum of the values at positions -pad .. i - pad - 1, clamped into the line.
-    sums[0] = 0;
-    const int before = first[0], after = first[(length - 1) * step];
-    for (int i = 0; i < pad; ++i) sums[i + 1] = sums[i] + before;
-    for (int at = 0; at < length; ++at) sums[pad + at + 1] = sums[pad + at] + first[at * step];
-    for (int i = pad + length; i < length + 2 * pad; ++i) sums[i + 1] = sums[i] + after;
-    // The mean of the window of `size` values whose middle (size / 2) is at position x
-    // (times the reciprocal of the size: divisions cost more than the rest of this loop).
-    const float inverse_bar = 1.0f / bar, inverse_flank = 1.0f / flank;
-    auto mean = [&](int x, int size, float inverse_size) {
-      const int from = x - size / 2 + pad;
-      return static_cast<float>(sums[from + size] - sums[from]) * inverse_size;
-    };
-    for (int x = 0; x < length; x += 2) {
-      const float response = mean(x, bar, inverse_bar) -
-                             0.5f * (mean(std::max(0, x - offset), flank, inverse_flank) +
-                                     mean(std::min(length - 1, x + offset), flank, inverse_flank));
-      if (horizontal) {
-        out.at<float>(line / 2, x / 2) = response;
-      } else {
-        out.at<float>(x / 2, line / 2) = response;
-      }
-    }
-  }
-  return out;
+  return horizontal ? bar_response_along_rows(frame, channel, bar, flank, offset)
+                    : bar_response_down_columns(frame, channel, bar, flank, offset);
 }
 
 // The bins min(max_bin, (v - lo) x inverse_width) of n values v, in a loop that vectorises.
