@@ -907,7 +907,8 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   const CurveModel in_view{carried_back.e_d_m, -carried_back.e_theta_rad,
                            carried_back.curvature_1_m};
   const Eigen::Vector2d last_foot = vehicle_.inverse().transform(last_course_->foot_m);
-  const double width_m = std::max(tape_width_m_, kNarrowTape_m);
+  const double width_m =
+      std::min(std::max(tape_width_m_, kNarrowTape_m), options_.carry_forward_max_width_m);
   if (std::abs(in_view.signed_distance(last_foot)) <= width_m ||
       std::abs(in_view.signed_distance(course.foot_point())) <= 0.5 * width_m)
     return std::nullopt;

@@ -102,6 +102,11 @@ struct PathMemoryOptions {
   // the arc carried within 1 mm).
   double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
   double carry_forward_m = 0.2;
+  // ... the tape width in those two tests at most this: the line that runs on from an arc's end
+  // passes through it within millimetres, and the width of 100 mm tape took a corner's outgoing
+  // leg, carried back 40 mm off the arc under the vehicle, for that tape (agv evaluate seed 4,
+  // sequence 10: 97 mm tape, a corner of R 0.27 m, up to 45 mm off once that leg was found).
+  double carry_forward_max_width_m = 0.03;
   // Where no remembered tape gives the errors and the line in view, carried back, lies more than
   // hold_course_offset_m across from the course measured under the vehicle at most hold_course_m
   // ago: that course carried forward, flagged extrapolated (a fork's other way or another leg

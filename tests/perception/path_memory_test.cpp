@@ -556,12 +556,12 @@ TEST(PathMemory, ACornerLeavingTheViewBelow45DegreesIsPassedOnTheRememberedTape)
 // Adds the chord across the tape at `centre` (world), running along `heading_rad`, to `d` and
 // `line` where its centre lies in the window; returns whether it does.
 bool add_chord_in_window(const Pose2& to_vehicle, const Eigen::Vector2d& centre, double heading_rad,
-                         LineDetection* d, DetectedLine* line) {
+                         LineDetection* d, DetectedLine* line, double width_m = kTapeWidthM) {
   const Eigen::Vector2d normal(-std::sin(heading_rad), std::cos(heading_rad));
   const Eigen::Vector2d c = to_vehicle.transform(centre);
   if (c.x() < 0.17 || c.x() > 0.43 || std::abs(c.y()) > 0.1) return false;
-  d->chords.push_back({to_vehicle.transform(centre + 0.5 * kTapeWidthM * normal),
-                       to_vehicle.transform(centre - 0.5 * kTapeWidthM * normal)});
+  d->chords.push_back({to_vehicle.transform(centre + 0.5 * width_m * normal),
+                       to_vehicle.transform(centre - 0.5 * width_m * normal)});
   line->chords.push_back(static_cast<int>(d->chords.size()) - 1);
   return true;
 }
@@ -571,8 +571,12 @@ struct WindowDrive {
   double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;  // frames with a line
   int extrapolated_within_half_mm = 0;  // extrapolated frames within 0.5 mm of the truth
 };
+// The tape `width_m` wide; with `view_as_seen`, the line in view carried back is the tape in the
+// window extended to the vehicle (a corner's outgoing leg, when that is all the window shows),
+// else the truth at the vehicle, 5 mm and 2 deg off.
 WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_m = 0.1,
-                         double corner_turn_deg = 90.0) {
+                         double corner_turn_deg = 90.0, double width_m = kTapeWidthM,
+                         bool view_as_seen = false) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0})
                                  .add_line(0.6)
                                  .add_arc(corner_radius_m, deg_to_rad(corner_turn_deg))
@@ -590,13 +594,13 @@ WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_
     DetectedLine line;
     double s_last = 0.0;
     for (double t = s; t <= s + 1.2; t += 0.004)
-      if (add_chord_in_window(to_vehicle, path.point_at(t), path.heading_at(t), &d, &line))
+      if (add_chord_in_window(to_vehicle, path.point_at(t), path.heading_at(t), &d, &line, width_m))
         s_last = t;
     LineMeasurement seen;
     seen.line_found = line.chords.size() >= 12;
     if (seen.line_found) {
       line.clean_chords = line.chords;
-      line.width_m = kTapeWidthM;
+      line.width_m = width_m;
       line.model.heading_rad = wrap_angle_rad(path.heading_at(s_last) - vehicle.yaw_rad);
       line.s_min_m = 0.17;
       line.s_max_m = 0.43;
@@ -606,6 +610,14 @@ WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_
       // Carried back from the view: deliberately 5 mm / 2 deg off, as across a joint.
       seen.e_d_m = truth.e_d_m + 0.005;
       seen.e_theta_rad = truth.e_theta_rad + deg_to_rad(2.0);
+      if (view_as_seen) {
+        const CurveModel view = curve_through_point(
+            to_vehicle.transform(path.point_at(s_last)),
+            wrap_angle_rad(path.heading_at(s_last) - vehicle.yaw_rad), path.curvature_at(s_last));
+        seen.e_d_m = view.e_d_m;
+        seen.e_theta_rad = -view.heading_rad;
+        seen.curvature_1_m = view.curvature_1_m;
+      }
     }
     const LineMeasurement m = memory.update(seen, d, vehicle);
     if (s < 0.3) continue;  // the memory's warm-up
@@ -664,6 +676,22 @@ TEST(PathMemory, PastACornerTheUnseenTapeIsItsArcThenTheLineAhead) {
   EXPECT_LE(drive_window({}, 0.12).max_e_d_error_m, 0.001);
   EXPECT_GE(drive_window(cubic, 0.12).max_e_d_error_m, 0.002);
   EXPECT_LT(drive_window({}, 0.2).extrapolated, drive_window(cubic, 0.2).extrapolated);
+}
+
+// A corner of R 0.2 m turning 112 deg, the window showing its outgoing leg in the turn and that
+// leg's line carried back as the line in view. How far the memory's errors stray there is the
+// corner's, not the tape's width: 97 mm tape within 0.5 mm of 30 mm tape at worst (both measured
+// 12.45 mm, where the arc carried forward meets the way out). Where the test of whether the line
+// in view runs on from the arc took the whole width of 97 mm tape, the leg carried back was
+// taken for the tape under the vehicle: 30.0 mm.
+TEST(PathMemory, AWideCornersOutgoingLegInViewIsNoMoreTakenForTheTapeUnderTheVehicle) {
+  const double narrow_m = drive_window({}, 0.2, 112.0, 0.03, true).max_e_d_error_m;
+  const WindowDrive wide = drive_window({}, 0.2, 112.0, 0.097, true);
+  EXPECT_EQ(wide.lost, 0);
+  EXPECT_LE(wide.max_e_d_error_m, narrow_m + 0.0005);
+  PathMemoryOptions whole_width;
+  whole_width.carry_forward_max_width_m = 1.0;
+  EXPECT_GE(drive_window(whole_width, 0.2, 112.0, 0.097, true).max_e_d_error_m, 2.0 * narrow_m);
 }
 
 // A corner of 45 deg (R 0.15 m) stays in the window the whole way round, so it is never passed
