@@ -45,6 +45,24 @@ std::string drop_lines_unlike_the_tape(std::vector<DetectedLine>* lines,
   return why;
 }
 
+// A plateau region spreads across at most this many times its mean width (a band: about 1).
+constexpr double kMaxPlateauSpread = 1.5;
+
+// Whether the line `strip` is a strip along one edge of the wider tape `tape` (what bars
+// narrower than that tape answer to): its middle within the tape, running along it (within
+// kMaxTurn_rad), and more than kMinShare of its width (the plateau of two pieces of narrower tape
+// overlapping at a fork or a corner is up to twice as wide as either, each of which is a line of
+// its own).
+bool strip_along(const DetectedLine& strip, const DetectedLine& tape) {
+  constexpr double kMaxTurn_rad = 0.2, kMinShare = 0.55;
+  const double middle_s = 0.5 * (strip.s_min_m + strip.s_max_m);
+  const Eigen::Vector2d middle = strip.model.point_at(middle_s);
+  const Eigen::Vector2d along = tape.model.tangent_at(tape.model.arc_position(middle));
+  return std::abs(tape.model.signed_distance(middle)) <= 0.5 * tape.width_m &&
+         std::abs(along.dot(strip.model.tangent_at(middle_s))) >= std::cos(kMaxTurn_rad) &&
+         strip.width_m >= kMinShare * tape.width_m;
+}
+
 // Coefficients (c0, c1, c2) of the quadratic in l through (l_i, x_i), least squares; a line when
 // the evidence spans too few lines to show a bend. Solved in a centred, scaled variable.
 Eigen::Vector3d quadratic_fit(const std::vector<Eigen::Vector2d>& lx, bool with_bend) {
@@ -146,6 +164,7 @@ LineEstimator::LineEstimator(const CameraModel& camera, const Options& options)
   }
   for (double width_m : widths_m)
     bar_widths_small_px_.push_back(width_m / footprint_m / options_.downsample);
+  if (options_.tape.width_m <= 0.0) plateau_min_width_px_ = tape_width_px_;
   options_.lines.expected_width_m = options_.tape.width_m;
   if (options.tape.width_m > 0.0) {
     Options any_width = options;
@@ -279,11 +298,27 @@ LineMeasurement LineEstimator::search_on_axis(const cv::Mat& frame, const cv::Ma
   // evidence of a tape wider than they are (on narrower tape it answers to the two legs of a
   // fork near their split as to one wide tape; on frames without tape, a second chance at
   // floor texture).
-  const LineMeasurement m =
+  LineMeasurement m =
       search_with_bars(frame, small, axis, ladder_bars_small_px(), stamp_s, detection, history);
-  if (m.line_found || !widest_bar_beyond_ladder_ || detection->rejected_because != kSparseEvidence)
+  if (!m.line_found && widest_bar_beyond_ladder_ && detection->rejected_because == kSparseEvidence)
+    m = search_with_bars(frame, small, axis, bar_widths_small_px_, stamp_s, detection, history);
+  // Tape wider than every bar (a low camera over 100 mm tape: half the view) answers to them
+  // only next to its edges, one edge a region (where they give a line, it is a strip along one
+  // edge): its plateau, the contrast itself, is the region then. Only lines as wide as the
+  // ladder's widest bar are taken from it, where the bars give none, or, before the tape's width
+  // has settled, where theirs is such a strip (below). Once it has settled a strip is unlike the
+  // tape and dropped; a line the bars give then is the tape, and a plateau there is more often
+  // two pieces of it overlapping (a fork's legs, a corner's) than one tape.
+  if (plateau_min_width_px_ <= 0.0) return m;
+  if (m.line_found && history && history->width.settled_width_m()) return m;
+  LineDetection plateau;
+  const LineMeasurement wide = search_with_bars(frame, small, axis, {}, stamp_s, &plateau, history);
+  if (!wide.line_found) return m;  // the bars' reason
+  if (m.line_found &&
+      !strip_along(detection->lines[detection->followed], plateau.lines[plateau.followed]))
     return m;
-  return search_with_bars(frame, small, axis, bar_widths_small_px_, stamp_s, detection, history);
+  *detection = std::move(plateau);
+  return wide;
 }
 
 std::vector<double> LineEstimator::ladder_bars_small_px() const {
@@ -308,8 +343,14 @@ LineMeasurement LineEstimator::search_with_bars(const cv::Mat& frame, const cv::
   // The bar response covers at least the tape's middle half: 0.6 of a width beyond it reaches
   // past the edges onto the floor.
   const int regions = std::min<int>(options_.max_regions, static_cast<int>(coarse.regions.size()));
+  const bool plateau = bars_small_px.empty();
   for (int r = 0; r < regions; ++r) {
     const TapeRegion& region = coarse.regions[r];
+    // The plateau of one tape, not of a junction's pieces (an L or a Y spreads across far more
+    // than its mean width).
+    if (plateau && (region.width_px < plateau_min_width_px_ ||
+                    region.spread_px > kMaxPlateauSpread * region.width_px))
+      continue;
     // A single band (long, one tape wide) is crossed best by scan lines across it; anything
     // else (curves, corners, junctions) is scanned both ways. Without a configured width, a band
     // is as wide across as its area says, and where the region is no band its own width (area
@@ -318,13 +359,14 @@ LineMeasurement LineEstimator::search_with_bars(const cv::Mat& frame, const cv::
     const bool band = region.length_px > 4.0 * region.width_px &&
                       (configured ? region.width_px < 1.6 * tape_width_px_
                                   : region.spread_px < 1.5 * region.width_px);
-    const double width_px =
-        configured || band ? tape_width_px_ : std::min(tape_width_px_, 1.5 * region.width_px);
+    const double width_px = plateau              ? region.width_px
+                            : configured || band ? tape_width_px_
+                                                 : std::min(tape_width_px_, 1.5 * region.width_px);
     // Dips (worn spots) are crossed up to a quarter of the tape's width; without a configured
     // width, of the region's own (a band's tape may be the widest there is, but a dip as long as
     // a quarter of that crosses a coarse floor texture's gaps onto blotches as bright as tape).
     const double dip_width_px =
-        configured ? width_px : std::min(tape_width_px_, 1.5 * region.width_px);
+        configured || plateau ? width_px : std::min(tape_width_px_, 1.5 * region.width_px);
     EdgeScanOptions scan = options_.scan;
     scan.flank_px = std::max(scan.flank_px, static_cast<int>(std::ceil(0.6 * width_px)));
     scan.max_dip_px = std::max(scan.max_dip_px, static_cast<int>(0.25 * dip_width_px));
@@ -337,6 +379,18 @@ LineMeasurement LineEstimator::search_with_bars(const cv::Mat& frame, const cv::
 
   std::vector<std::string> rejections;
   d.lines = extract_lines(d.chords, options_.lines, &rejections);
+  if (plateau) {
+    // As wide as the ladder's widest bar, and as the tape followed so far where its width has
+    // settled (not up to two tapes, as where pieces of it overlap: the bars' lines there).
+    const double min_width_m = plateau_min_width_px_ * floor_map_->typical_footprint_m();
+    const std::optional<double> settled_m =
+        history ? history->width.settled_width_m() : std::nullopt;
+    std::erase_if(d.lines, [&](const DetectedLine& line) {
+      return line.width_m < min_width_m ||
+             (settled_m &&
+              std::abs(line.width_m - *settled_m) > TapeWidthMemory::kTolerance * *settled_m);
+    });
+  }
   if (d.lines.empty())
     return not_found(stamp_s, rejections.empty() ? "no line" : rejections.front(), &d);
   if (const std::string unlike = drop_lines_unlike_the_tape(&d.lines, history); !unlike.empty())

@@ -120,7 +120,8 @@ class LineEstimator {
                                  const FollowHistory* history) const;
   // The bars of the ladder: bar_widths_small_px_ without the widest beyond it, if there is one.
   std::vector<double> ladder_bars_small_px() const;
-  // search_on_axis with these bars (bar_widths_small_px_ or the ladder's part of it).
+  // search_on_axis with these bars (bar_widths_small_px_ or the ladder's part of it; none: the
+  // plateau of tape wider than every bar, see search_on_axis).
   LineMeasurement search_with_bars(const cv::Mat& frame, const cv::Mat& small,
                                    const ContrastAxis& axis,
                                    const std::vector<double>& bars_small_px, double stamp_s,
@@ -135,6 +136,9 @@ class LineEstimator {
   // (tape_width_px_): searched with only where the ladder's candidate was refused for sparse
   // evidence (the colour axis is chosen with the ladder's).
   bool widest_bar_beyond_ladder_ = false;
+  // Without a configured width: tape at least as wide in full-size pixels as the ladder's widest
+  // bar is searched for by its plateau too (see search_on_axis); 0 with a configured width.
+  double plateau_min_width_px_ = 0.0;
   // With a configured width: the same estimator for tape of any width (the hint's fallback).
   std::shared_ptr<const LineEstimator> any_width_;
 };

@@ -129,7 +129,9 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   result.downsample = downsample;
   result.contrast_small = contrast_of(small_frame, axis);
   cv::Mat& bar = result.bar_small;
-  bar = cv::Mat(result.contrast_small.size(), CV_32F, cv::Scalar(-1e9f));
+  bar = bar_widths_small_px.empty()
+            ? result.contrast_small.clone()
+            : cv::Mat(result.contrast_small.size(), CV_32F, cv::Scalar(-1e9f));
   for (double width : bar_widths_small_px) {
     bar = cv::max(bar, bar_response(result.contrast_small, width, true));
     bar = cv::max(bar, bar_response(result.contrast_small, width, false));

@@ -39,7 +39,9 @@ struct TapeRegions {
 // over the two flanks, along rows and along columns, the larger kept. Floor texture, shading
 // and illumination gradients, which vary slowly across a tape width, cancel out. The response
 // is thresholded half-way between floor and tape (ISODATA) and its connected regions of at
-// least min_area_small_px pixels are returned.
+// least min_area_small_px pixels are returned. With no bar widths the response is the contrast
+// itself: the plateau of tape wider than any bar that fits the view (a bar there answers only
+// to its edges), against a floor that is level over the view.
 TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& axis, int downsample,
                               const std::vector<double>& bar_widths_small_px,
                               int min_area_small_px);
