@@ -45,8 +45,9 @@ std::string drop_lines_unlike_the_tape(std::vector<DetectedLine>* lines,
   return why;
 }
 
-// A plateau region spreads across at most this many times its mean width (a band: about 1).
-constexpr double kMaxPlateauSpread = 1.5;
+// A region of one tape's width spreads across less than this many times its mean width (its
+// second moments across; a band's is about 1, a corner's or a junction's far more).
+constexpr double kBandSpread = 1.5;
 
 // Whether the line `strip` is a strip along one edge of the wider tape `tape` (what bars
 // narrower than that tape answer to): its middle within the tape, running along it (within
@@ -346,10 +347,9 @@ LineMeasurement LineEstimator::search_with_bars(const cv::Mat& frame, const cv::
   const bool plateau = bars_small_px.empty();
   for (int r = 0; r < regions; ++r) {
     const TapeRegion& region = coarse.regions[r];
-    // The plateau of one tape, not of a junction's pieces (an L or a Y spreads across far more
-    // than its mean width).
+    // The plateau of one tape, not of a junction's pieces (an L, a Y).
     if (plateau && (region.width_px < plateau_min_width_px_ ||
-                    region.spread_px > kMaxPlateauSpread * region.width_px))
+                    region.spread_px >= kBandSpread * region.width_px))
       continue;
     // A single band (long, one tape wide) is crossed best by scan lines across it; anything
     // else (curves, corners, junctions) is scanned both ways. Without a configured width, a band
@@ -358,7 +358,7 @@ LineMeasurement LineEstimator::search_with_bars(const cv::Mat& frame, const cv::
     const bool configured = options_.tape.width_m > 0.0;
     const bool band = region.length_px > 4.0 * region.width_px &&
                       (configured ? region.width_px < 1.6 * tape_width_px_
-                                  : region.spread_px < 1.5 * region.width_px);
+                                  : region.spread_px < kBandSpread * region.width_px);
     const double width_px = plateau              ? region.width_px
                             : configured || band ? tape_width_px_
                                                  : std::min(tape_width_px_, 1.5 * region.width_px);
