@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <set>
 #include <stdexcept>
 
@@ -50,16 +51,22 @@ TEST(SequenceBenchmark, JoinedArcsAndSBendsMeetTheSingleFrameBarAfterTheWarmUp) 
   EXPECT_NEAR(std::sqrt(sum / counted), after["rms_e_d_m"].get<double>(), 1e-12);
 }
 
+// One sequence of `agv evaluate --seed SEED` driven again (--only-sequence), its draw traced on
+// failure.
+SequenceBenchmarkResult one_drive(std::uint64_t seed, int sequence) {
+  SequenceBenchmarkOptions options;
+  options.seed = seed;
+  options.empty_sequences = 0;
+  options.only_sequence = sequence;
+  return run_sequence_benchmark(options);
+}
+
 // agv evaluate --seed 12, sequence 4 (a corner of R 0.26 m turning 135 deg, then a fork taken
 // left, camera 0.24 m up): past the corner one frame's reading from the remembered tape ran 148
 // deg against the vehicle (a fit whose foot point lay round the bend), a direction flip. A
 // reading that runs more than 90 deg from the vehicle's heading is no measurement: no flip.
 TEST(SequenceBenchmark, NoReadingRunsAgainstTheVehiclePastATightCorner) {
-  SequenceBenchmarkOptions options;
-  options.seed = 12;
-  options.empty_sequences = 0;
-  options.only_sequence = 4;
-  const SequenceBenchmarkResult result = run_sequence_benchmark(options);
+  const SequenceBenchmarkResult result = one_drive(12, 4);
   SCOPED_TRACE("draw: " + result.sequence_texts.at(4));
   EXPECT_EQ(result.summary["direction_flips"].get<int>(), 0);
   EXPECT_GE(result.summary["found_fraction"].get<double>(), 0.99);
@@ -71,11 +78,7 @@ TEST(SequenceBenchmark, NoReadingRunsAgainstTheVehiclePastATightCorner) {
 // single-frame bar of 0.2 mm / 0.1 deg RMS after the warm-up (measured 100 %, 0.098 mm / 0.040
 // deg; without the plateau search 29 % found, 52 mm RMS off).
 TEST(SequenceBenchmark, TapeFillingMoreThanHalfTheViewIsFollowed) {
-  SequenceBenchmarkOptions options;
-  options.seed = 11;
-  options.empty_sequences = 0;
-  options.only_sequence = 4;
-  const SequenceBenchmarkResult result = run_sequence_benchmark(options);
+  const SequenceBenchmarkResult result = one_drive(11, 4);
   SCOPED_TRACE("draw: " + result.sequence_texts.at(4));
   EXPECT_GE(result.summary["found_fraction"].get<double>(), 0.99);
   const nlohmann::json& after = result.summary["after_warm_up"];
@@ -90,11 +93,7 @@ TEST(SequenceBenchmark, TapeFillingMoreThanHalfTheViewIsFollowed) {
 // bars' line runs inside it (without the strip test's share of the width and direction), 90 %
 // and 6.0 mm: the overlap's middle carried back.
 TEST(SequenceBenchmark, AForksOverlappingLegsAreNotOneWideTape) {
-  SequenceBenchmarkOptions options;
-  options.seed = 3;
-  options.empty_sequences = 0;
-  options.only_sequence = 5;
-  const SequenceBenchmarkResult result = run_sequence_benchmark(options);
+  const SequenceBenchmarkResult result = one_drive(3, 5);
   SCOPED_TRACE("draw: " + result.sequence_texts.at(5));
   EXPECT_GE(result.summary["found_fraction"].get<double>(), 0.99);
   EXPECT_LE(result.summary["after_warm_up"]["rms_e_d_m"].get<double>(), 0.0005);
