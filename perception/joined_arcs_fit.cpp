@@ -12,6 +12,17 @@
 namespace agv::perception {
 namespace {
 
+// Each point's weight (how many observations it stands for): 1 where none are given.
+class Weights {
+ public:
+  explicit Weights(const std::vector<double>& weights) : weights_(weights) {}
+  double operator()(size_t i) const { return weights_.empty() ? 1.0 : weights_[i]; }
+  const std::vector<double>& all() const { return weights_; }
+
+ private:
+  const std::vector<double>& weights_;
+};
+
 struct Solved {
   Eigen::Vector4d c = Eigen::Vector4d::Zero();  // a, b, k1, k2
   double rss = std::numeric_limits<double>::infinity();
@@ -54,22 +65,26 @@ void one_piece_normal_equations(const double* x, const double* xy, Eigen::Matrix
 // x^0..x^2 y), so each breakpoint costs a 4 x 4 solve, not a pass over the points.
 class PointMoments {
  public:
-  // `by_x`: all the points, in order along x; those marked in `use` (by index into p) count.
+  // `by_x`: all the points, in order along x; those marked in `use` (by index into p) count,
+  // each with its weight.
   PointMoments(const std::vector<Eigen::Vector2d>& p,
-               const std::vector<const Eigen::Vector2d*>& by_x, const std::vector<bool>& use) {
+               const std::vector<const Eigen::Vector2d*>& by_x, const std::vector<bool>& use,
+               const Weights& weight) {
     for (const Eigen::Vector2d* q : by_x)
       if (use[q - p.data()]) sorted_.push_back(q);
     suffix_.assign(sorted_.size() + 1, std::array<double, 8>{});
     for (size_t j = sorted_.size(); j-- > 0;) {
       const double x = sorted_[j]->x(), y = sorted_[j]->y();
-      const double powers[5] = {1.0, x, x * x, x * x * x, x * x * x * x};
+      const double w = weight(sorted_[j] - p.data());
+      const double powers[5] = {w, w * x, w * x * x, w * x * x * x, w * x * x * x * x};
       for (int k = 0; k < 5; ++k) suffix_[j][k] = suffix_[j + 1][k] + powers[k];
       for (int k = 0; k < 3; ++k) suffix_[j][5 + k] = suffix_[j + 1][5 + k] + powers[k] * y;
+      yty_ += w * y * y;
     }
-    for (const Eigen::Vector2d* q : sorted_) yty_ += q->y() * q->y();
   }
 
   size_t size() const { return sorted_.size(); }
+  double total_weight() const { return suffix_[0][0]; }
   double lo() const { return sorted_.front()->x(); }
   double hi() const { return sorted_.back()->x(); }
   double yty() const { return yty_; }
@@ -148,10 +163,12 @@ std::optional<double> best_breakpoint(const PointMoments& m, const JoinedArcsOpt
 std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vector2d>& p,
                                                     const std::vector<const Eigen::Vector2d*>& by_x,
                                                     const std::vector<bool>& use,
+                                                    const Weights& weight,
                                                     const JoinedArcsOptions& options) {
-  const PointMoments m(p, by_x, use);
+  const PointMoments m(p, by_x, use, weight);
   const int n = static_cast<int>(m.size());
   if (n < 5) return {Solved{}, std::nullopt};  // three unknowns and two more points
+  const double counted = m.total_weight();     // the observations the criterion counts
   Eigen::Matrix4d ata;
   Eigen::Vector4d aty;
   Solved one;
@@ -167,42 +184,49 @@ std::pair<Solved, std::optional<double>> best_model(const std::vector<Eigen::Vec
   }
   one.rss = two.rss = 0.0;
   for (const Eigen::Vector2d* q : m.sorted()) {
+    const double w = weight(q - p.data());
     const double r1 = basis(q->x(), std::nullopt).dot(one.c) - q->y();
-    one.rss += r1 * r1;
+    one.rss += w * r1 * r1;
     if (!xb) continue;
     const double r2 = basis(q->x(), xb).dot(two.c) - q->y();
-    two.rss += r2 * r2;
+    two.rss += w * r2 * r2;
   }
-  const double floor_rss = 1e-18 * n;  // noise-free points: no log of zero
+  const double floor_rss = 1e-18 * counted;  // noise-free points: no log of zero
   if (xb && n > 6 &&
-      n * std::log((two.rss + floor_rss) / n) + 2.0 * std::log(n) <
-          n * std::log((one.rss + floor_rss) / n))
+      counted * std::log((two.rss + floor_rss) / counted) + 2.0 * std::log(counted) <
+          counted * std::log((one.rss + floor_rss) / counted))
     return {two, xb};
   return {one, std::nullopt};
 }
 
 // Standard deviation of the model's coefficient `index` over the points marked (in order along
-// x): (a'a)^-1 times the residual variance, inflated by the residuals' autocorrelation time.
+// x): (a'Wa)^-1 times the residual variance per observation, inflated by the residuals'
+// autocorrelation time and by the mean weight (the observations a point stands for saw the same
+// stretch of tape: their wear and the floor's texture are one, which more of them do not average
+// out; with every weight 1, the plain estimate).
 double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
                          const std::vector<const Eigen::Vector2d*>& by_x,
-                         const std::vector<bool>& use, const Solved& model,
+                         const std::vector<bool>& use, const Weights& weight, const Solved& model,
                          std::optional<double> xb, int index) {
   Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
   std::vector<double> residuals;
+  double rss = 0.0, counted = 0.0;
   for (const Eigen::Vector2d* q : by_x) {
     if (!use[q - p.data()]) continue;
+    const double w = weight(q - p.data());
     const Eigen::Vector4d row = basis(q->x(), xb);
-    ata += row * row.transpose();
+    ata += w * row * row.transpose();
     residuals.push_back(row.dot(model.c) - q->y());
+    rss += w * residuals.back() * residuals.back();
+    counted += w;
   }
   const int n_params = xb ? 4 : 3, n = static_cast<int>(residuals.size());
-  if (n <= n_params) return std::numeric_limits<double>::infinity();
-  double rss = 0.0;
-  for (double r : residuals) rss += r * r;
+  if (n <= n_params || counted <= n_params) return std::numeric_limits<double>::infinity();
   if (!xb) ata(3, 3) = 1.0;  // the one-piece model has no fourth unknown
   const double inverse = ata.inverse()(index, index);
-  return std::sqrt(
-      std::max(0.0, inverse * integrated_autocorrelation_time(residuals) * rss / (n - n_params)));
+  const double mean_weight = counted / n;
+  return std::sqrt(std::max(0.0, inverse * integrated_autocorrelation_time(residuals) *
+                                     mean_weight * rss / (counted - n_params)));
 }
 
 // The moments of points for the one-piece model: sums of x^0..x^4 and of x^0..x^2 y
@@ -238,18 +262,23 @@ double one_piece_residual(const Eigen::Vector3d& c, const Eigen::Vector2d& p) {
 // their moments out again: what best_model and the outlier pass below do for one piece, without
 // ordering the points.
 std::optional<JoinedArcs> fit_one_piece(const std::vector<Eigen::Vector2d>& points,
-                                        double outlier_sigmas) {
+                                        const Weights& weight, double outlier_sigmas) {
   OnePieceMoments moments;
-  for (const Eigen::Vector2d& p : points) moments.add(p, 1.0);
+  double counted = 0.0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    moments.add(points[i], weight(i));
+    counted += weight(i);
+  }
   Eigen::Vector3d c = moments.solve();
   std::vector<double> residuals(points.size());
   for (size_t i = 0; i < points.size(); ++i)
     residuals[i] = std::abs(one_piece_residual(c, points[i]));
-  const double limit = outlier_limit(residuals, outlier_sigmas);
+  const double limit = outlier_limit(residuals, weight.all(), outlier_sigmas);
   int kept = static_cast<int>(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     if (residuals[i] <= limit) continue;
-    moments.add(points[i], -1.0);
+    moments.add(points[i], -weight(i));
+    counted -= weight(i);
     --kept;
   }
   if (kept < 5) return std::nullopt;  // three unknowns and two more points
@@ -258,15 +287,15 @@ std::optional<JoinedArcs> fit_one_piece(const std::vector<Eigen::Vector2d>& poin
   for (size_t i = 0; i < points.size(); ++i) {
     if (residuals[i] > limit) continue;
     const double r = one_piece_residual(c, points[i]);
-    rss += r * r;
+    rss += weight(i) * r * r;
   }
   if (!std::isfinite(rss)) return std::nullopt;
   JoinedArcs out;
   out.offset_m = c[0];
   out.slope = c[1];
   out.curvature_1_m = out.curvature_far_1_m = c[2];
-  out.points = kept;
-  out.rms_m = std::sqrt(rss / kept);
+  out.points = static_cast<int>(std::lround(counted));
+  out.rms_m = std::sqrt(rss / counted);
   return out;
 }
 
@@ -274,7 +303,14 @@ std::optional<JoinedArcs> fit_one_piece(const std::vector<Eigen::Vector2d>& poin
 
 std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
                                           const JoinedArcsOptions& options) {
+  return fit_joined_arcs(points, {}, options);
+}
+
+std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
+                                          const std::vector<double>& weights,
+                                          const JoinedArcsOptions& options) {
   if (points.size() < 6) return std::nullopt;
+  const Weights weight(weights);
   bool before = false, after = false;
   for (const Eigen::Vector2d& p : points) {
     before = before || p.x() < 0.0;
@@ -282,7 +318,7 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   }
   if (options.both_sides && (!before || !after)) return std::nullopt;
   if (!options.joint && !options.curvature_sigma)
-    return fit_one_piece(points, options.outlier_sigmas);
+    return fit_one_piece(points, weight, options.outlier_sigmas);
   std::vector<bool> use(points.size(), true);
   // The points in order along x, once for both fits (the breakpoint search and the residuals'
   // autocorrelation need the order; one piece alone does not).
@@ -291,19 +327,21 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   if (options.joint || options.curvature_sigma)
     std::sort(by_x.begin(), by_x.end(),
               [](const Eigen::Vector2d* a, const Eigen::Vector2d* b) { return a->x() < b->x(); });
-  auto [model, xb] = best_model(points, by_x, use, options);
+  auto [model, xb] = best_model(points, by_x, use, weight, options);
   // Once: drop the points far off (a stray chord, a seam), then fit again.
   std::vector<double> residuals;
   for (const Eigen::Vector2d& p : points)
     residuals.push_back(std::abs(basis(p.x(), xb).dot(model.c) - p.y()));
-  const double limit = outlier_limit(residuals, options.outlier_sigmas);
+  const double limit = outlier_limit(residuals, weights, options.outlier_sigmas);
   int kept = 0;
+  double counted = 0.0;
   for (size_t i = 0; i < points.size(); ++i) {
     use[i] = residuals[i] <= limit;
     kept += use[i] ? 1 : 0;
+    counted += use[i] ? weight(i) : 0.0;
   }
   if (kept < static_cast<int>(points.size()))
-    std::tie(model, xb) = best_model(points, by_x, use, options);
+    std::tie(model, xb) = best_model(points, by_x, use, weight, options);
   if (!std::isfinite(model.rss)) return std::nullopt;
 
   JoinedArcs out;
@@ -319,10 +357,11 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   }
   out.curvature_far_1_m = model.c[3];
   out.break_x_m = xb;
-  out.points = kept;
-  out.rms_m = std::sqrt(model.rss / std::max(1, kept));
+  out.points = static_cast<int>(std::lround(counted));
+  out.rms_m = std::sqrt(model.rss / std::max(1.0, counted));
   if (options.curvature_sigma)
-    out.curvature_sigma_1_m = coefficient_sigma(points, by_x, use, model, xb, second_holds ? 3 : 2);
+    out.curvature_sigma_1_m =
+        coefficient_sigma(points, by_x, use, weight, model, xb, second_holds ? 3 : 2);
   return out;
 }
 

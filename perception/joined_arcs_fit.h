@@ -41,5 +41,10 @@ struct JoinedArcsOptions {
 // x = 0.
 std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
                                           const JoinedArcsOptions& options = {});
+// The same with each point counting weights[i] times (how many observations it stands for: the
+// fused points of the path memory); `points` then counts those observations.
+std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& points,
+                                          const std::vector<double>& weights,
+                                          const JoinedArcsOptions& options = {});
 
 }  // namespace agv::perception

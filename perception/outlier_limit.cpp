@@ -7,6 +7,16 @@
 namespace agv::perception {
 
 double outlier_limit(const std::vector<double>& magnitudes, double outlier_sigmas) {
+  return outlier_limit(magnitudes, {}, outlier_sigmas);
+}
+
+double outlier_limit(const std::vector<double>& magnitudes, const std::vector<double>& weights,
+                     double outlier_sigmas) {
+  auto weight = [&weights](size_t i) { return weights.empty() ? 1.0 : weights[i]; };
+  double total = 0.0;
+  for (size_t i = 0; i < magnitudes.size(); ++i) total += weight(i);
+  // The upper median's rank (from 0) among all counted: floor(total / 2).
+  const double median_rank = std::floor(0.5 * total);
   // Without ordering them where at least half of the magnitudes reach the largest over
   // outlier_sigmas x 1.4826 (a little more, for rounding): then so does the median, and the
   // limit exceeds the largest.
@@ -14,14 +24,29 @@ double outlier_limit(const std::vector<double>& magnitudes, double outlier_sigma
   for (double r : magnitudes) largest = std::max(largest, r);  // (NaN: never kept either way)
   if (outlier_sigmas > 0.0) {
     const double reach = largest / (outlier_sigmas * 1.4826) * (1.0 + 1e-9);
-    size_t reaching = 0;
-    for (double r : magnitudes) reaching += r >= reach ? 1 : 0;
-    if (reaching >= magnitudes.size() - magnitudes.size() / 2)
-      return std::numeric_limits<double>::infinity();
+    double reaching = 0.0;
+    for (size_t i = 0; i < magnitudes.size(); ++i)
+      reaching += magnitudes[i] >= reach ? weight(i) : 0.0;
+    if (reaching >= total - median_rank) return std::numeric_limits<double>::infinity();
   }
-  std::vector<double> sorted = magnitudes;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  return outlier_sigmas * std::max(1e-6, 1.4826 * sorted[sorted.size() / 2]);
+  double median = 0.0;
+  if (weights.empty()) {
+    std::vector<double> sorted = magnitudes;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    median = sorted[sorted.size() / 2];
+  } else {
+    std::vector<size_t> order(magnitudes.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(),
+              [&](size_t a, size_t b) { return magnitudes[a] < magnitudes[b]; });
+    double counted = 0.0;
+    for (size_t i : order) {
+      counted += weight(i);
+      median = magnitudes[i];
+      if (counted > median_rank) break;
+    }
+  }
+  return outlier_sigmas * std::max(1e-6, 1.4826 * median);
 }
 
 }  // namespace agv::perception

@@ -10,5 +10,9 @@ namespace agv::perception {
 // it (found without the median's selection, which was the fits' main cost, in most windows of a
 // tape): either way, a magnitude is kept exactly when it is <= the value returned.
 double outlier_limit(const std::vector<double>& magnitudes, double outlier_sigmas);
+// The same with each magnitude counting `weights[i]` times (whole numbers: a point that stands for
+// that many), the median that of all those counted (the weights empty: each once).
+double outlier_limit(const std::vector<double>& magnitudes, const std::vector<double>& weights,
+                     double outlier_sigmas);
 
 }  // namespace agv::perception

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <optional>
 
@@ -193,6 +194,25 @@ std::optional<Eigen::Vector3d> line_after_corner_arc(double x0, const Eigen::Vec
   return Eigen::Vector3d(line_y(0.0), ahead[1], 0.0);
 }
 
+// How many observations the (x, observations) pairs hold together.
+int observations_of(const std::vector<std::pair<double, int>>& along) {
+  int n = 0;
+  for (const auto& [x, count] : along) n += count;
+  return n;
+}
+
+// The x of the point that holds the k-th observation (from 0) counted from `first` on, the pairs
+// sorted by x (the last point's where they hold fewer).
+template <typename Iterator>
+double x_of_observation(Iterator first, Iterator last, int k) {
+  int seen = 0;
+  for (Iterator it = first; it != last; ++it) {
+    seen += it->second;
+    if (seen > k) return it->first;
+  }
+  return std::prev(last)->first;
+}
+
 }  // namespace
 
 void PathMemory::reset() {
@@ -255,7 +275,8 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;  // the overlap's bounding box
   EvidenceIndex index(evidence, line, options_.neighbourhood_m);
-  for (const Eigen::Vector2d& p : *in_vehicle) {
+  for (size_t i = 0; i < in_vehicle->size(); ++i) {
+    const Eigen::Vector2d& p = (*in_vehicle)[i];
     const std::optional<size_t> nearest = index.nearest(p);
     if (!nearest) continue;
     // The local direction of the evidence: its points within the neighbourhood of the nearest.
@@ -265,9 +286,10 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
     const double d = course.distance(p, &normal);
     if (std::abs(d) > options_.gate_m) continue;
     const Eigen::Vector3d j(normal.dot(Eigen::Vector2d(-p.y(), p.x())), normal.x(), normal.y());
-    jtj += j * j.transpose();
-    jtd += j * d;
-    ++count;
+    const double observations = points_[i].observations;
+    jtj += observations * j * j.transpose();
+    jtd += observations * j * d;
+    count += points_[i].observations;
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
@@ -308,30 +330,31 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   // Only points as near the origin as the window's corners (a rounding margin) can lie in it,
   // whichever way it turns.
   const double reach_m = std::hypot(options_.window_m, options_.window_across_m) + 1e-9;
-  std::vector<Eigen::Vector2d> near_origin;
-  for (const Eigen::Vector2d& p : in_vehicle)
-    if (p.squaredNorm() <= reach_m * reach_m) near_origin.push_back(p);
+  std::vector<size_t> near_origin;
+  for (size_t i = 0; i < in_vehicle.size(); ++i)
+    if (in_vehicle[i].squaredNorm() <= reach_m * reach_m) near_origin.push_back(i);
   for (int pass = 0;; ++pass) {
     std::vector<Eigen::Vector2d> local;
-    std::vector<double> along;
+    std::vector<double> weights;                // each point's observations
+    std::vector<std::pair<double, int>> along;  // (x, observations)
     const Turn to_frame(-frame_rad);
-    for (const Eigen::Vector2d& p : near_origin) {
-      const Eigen::Vector2d q = to_frame(p);
+    for (size_t i : near_origin) {
+      const Eigen::Vector2d q = to_frame(in_vehicle[i]);
       if (std::abs(q.x()) > options_.window_m || std::abs(q.y()) > options_.window_across_m)
         continue;
       local.push_back(q);
-      along.push_back(q.x());
+      weights.push_back(points_[i].observations);
+      along.emplace_back(q.x(), points_[i].observations);
     }
-    // Enough tape on both sides: the side_points-th point from either end reaches min_cover_m
-    // (a stray point or two far out is not tape under the vehicle).
-    const int n = static_cast<int>(along.size()), k = options_.side_points;
-    if (n < std::max(options_.min_points, 2 * k + 2)) return std::nullopt;
-    std::nth_element(along.begin(), along.begin() + k, along.end());
-    const double lo = along[k];
-    std::nth_element(along.begin(), along.begin() + (n - 1 - k), along.end());
-    const double hi = along[n - 1 - k];
+    // Enough tape on both sides: the side_points-th observation from either end reaches
+    // min_cover_m (a stray point or two far out is not tape under the vehicle).
+    const int k = options_.side_points;
+    if (observations_of(along) < std::max(options_.min_points, 2 * k + 2)) return std::nullopt;
+    std::sort(along.begin(), along.end());
+    const double lo = x_of_observation(along.begin(), along.end(), k);
+    const double hi = x_of_observation(along.rbegin(), along.rend(), k);
     if (lo > -options_.min_cover_m || hi < options_.min_cover_m) return std::nullopt;
-    fit = fit_joined_arcs(local);
+    fit = fit_joined_arcs(local, weights);
     if (!fit) return std::nullopt;
     // The fit is in this frame: turn it only for another pass (the model below adds the slope).
     if (std::abs(fit->slope) < 0.02 || pass == 2) break;
@@ -386,14 +409,16 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   const double frame_rad =
       tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad) : 0.0;
   std::vector<Eigen::Vector2d> local;
+  std::vector<int> observations;  // each local point's
   std::vector<double> along;
   const Turn to_frame(-frame_rad);
-  for (const Eigen::Vector2d& p : in_vehicle) {
-    const Eigen::Vector2d q = to_frame(p);
+  for (size_t i = 0; i < in_vehicle.size(); ++i) {
+    const Eigen::Vector2d q = to_frame(in_vehicle[i]);
     if (std::abs(q.y()) > band_m || q.x() < -options_.keep_behind_m ||
         q.x() > options_.max_gap_m + options_.gap_end_m)
       continue;
     local.push_back(q);
+    observations.push_back(points_[i].observations);
     along.push_back(q.x());
   }
   // The gap: two consecutive points (along the tape) more than kContiguous_m apart, the origin
@@ -417,13 +442,19 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   // from a quadratic through its last (first) gap_end_m, and a cubic between them with those values
   // and slopes (Hermite), whose value, slope and second derivative at the origin give the errors.
   std::vector<Eigen::Vector2d> ends[2];
-  for (const Eigen::Vector2d& q : local) {
-    if (q.x() <= last_behind && q.x() >= last_behind - options_.gap_end_m) ends[0].push_back(q);
-    if (q.x() > last_behind && q.x() <= first_ahead + options_.gap_end_m) ends[1].push_back(q);
+  std::vector<int> end_observations[2];
+  int observed[2] = {0, 0};
+  for (size_t i = 0; i < local.size(); ++i) {
+    const Eigen::Vector2d& q = local[i];
+    const int end = q.x() <= last_behind && q.x() >= last_behind - options_.gap_end_m  ? 0
+                    : q.x() > last_behind && q.x() <= first_ahead + options_.gap_end_m ? 1
+                                                                                       : -1;
+    if (end < 0) continue;
+    ends[end].push_back(q);
+    end_observations[end].push_back(observations[i]);
+    observed[end] += observations[i];
   }
-  if (static_cast<int>(ends[0].size()) < options_.min_points ||
-      static_cast<int>(ends[1].size()) < options_.min_points)
-    return std::nullopt;
+  if (observed[0] < options_.min_points || observed[1] < options_.min_points) return std::nullopt;
   auto extreme = [](const std::vector<Eigen::Vector2d>& points, bool last) {
     return *std::max_element(points.begin(), points.end(), [&](const auto& a, const auto& b) {
       return last ? a.x() < b.x() : a.x() > b.x();
@@ -433,20 +464,20 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   const double chord_rad = std::atan2(p1.y() - p0.y(), p1.x() - p0.x());
   const Turn along_chord(-chord_rad);
   // Value and slope at x_end of y = a + b (x - x_end) + c (x - x_end)^2, least squares.
-  auto end_of = [&](const std::vector<Eigen::Vector2d>& points, double x_end) {
+  auto end_of = [&](int end, double x_end) {
     Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
     Eigen::Vector3d aty = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector2d& q : points) {
-      const Eigen::Vector2d r = along_chord(q);
-      const double u = r.x() - x_end;
+    for (size_t i = 0; i < ends[end].size(); ++i) {
+      const Eigen::Vector2d r = along_chord(ends[end][i]);
+      const double u = r.x() - x_end, w = end_observations[end][i];
       const Eigen::Vector3d row(1.0, u, u * u);
-      ata += row * row.transpose();
-      aty += row * r.y();
+      ata += w * row * row.transpose();
+      aty += w * row * r.y();
     }
     return Eigen::Vector3d(ata.ldlt().solve(aty));
   };
   const double x0 = along_chord(p0).x(), x1 = along_chord(p1).x();
-  const Eigen::Vector3d behind = end_of(ends[0], x0), ahead = end_of(ends[1], x1);
+  const Eigen::Vector3d behind = end_of(0, x0), ahead = end_of(1, x1);
   if (!behind.allFinite() || !ahead.allFinite() || !(x1 > x0)) return std::nullopt;
   // Where the two ends' directions disagree (the tape remembered behind still bends out of a
   // corner, or was seen badly there), the line through the end ahead, the tape seen last, if
@@ -506,34 +537,38 @@ std::optional<LineMeasurement> PathMemory::from_tape_ahead(
   one_piece.joint = false;
   for (int pass = 0;; ++pass) {
     const Turn to_frame(-frame_rad);
-    std::vector<Eigen::Vector2d> local;
+    std::vector<Eigen::Vector2d> reach, local;
+    std::vector<double> reach_weights, weights;  // each point's observations
     double nearest_m = std::numeric_limits<double>::infinity();
     int behind = 0;
-    for (const Eigen::Vector2d& p : in_vehicle) {
-      const Eigen::Vector2d q = to_frame(p);
+    for (size_t i = 0; i < in_vehicle.size(); ++i) {
+      const Eigen::Vector2d q = to_frame(in_vehicle[i]);
       if (q.x() <= 0.0 && q.x() >= -options_.window_m &&
           std::abs(q.y()) <= options_.window_across_m)
-        ++behind;
+        behind += points_[i].observations;
       if (q.x() <= 0.0 || q.x() > options_.ahead_max_gap_m + options_.ahead_span_m ||
           std::abs(q.y()) > options_.window_across_m)
         continue;
-      local.push_back(q);
+      reach.push_back(q);
+      reach_weights.push_back(points_[i].observations);
       nearest_m = std::min(nearest_m, q.x());
     }
     if (!(nearest_m <= options_.ahead_max_gap_m) || behind >= options_.side_points)
       return std::nullopt;
-    local.erase(std::remove_if(local.begin(), local.end(),
-                               [&](const Eigen::Vector2d& q) {
-                                 return q.x() > nearest_m + options_.ahead_span_m;
-                               }),
-                local.end());
-    if (static_cast<int>(local.size()) < options_.min_points) return std::nullopt;
+    double observed = 0.0;
+    for (size_t i = 0; i < reach.size(); ++i) {
+      if (reach[i].x() > nearest_m + options_.ahead_span_m) continue;
+      local.push_back(reach[i]);
+      weights.push_back(reach_weights[i]);
+      observed += reach_weights[i];
+    }
+    if (observed < options_.min_points) return std::nullopt;
     double far_m = nearest_m;
     for (const Eigen::Vector2d& q : local) far_m = std::max(far_m, q.x());
     if (far_m - nearest_m < 0.5 * options_.ahead_span_m) return std::nullopt;
-    fit = fit_joined_arcs(local, one_piece);
+    fit = fit_joined_arcs(local, weights, one_piece);
     if (!fit) return std::nullopt;
-    kept = static_cast<double>(fit->points) / static_cast<double>(local.size());
+    kept = static_cast<double>(fit->points) / observed;
     if (std::abs(fit->slope) < 0.02 || pass == 2) break;
     frame_rad += std::atan(fit->slope);
   }
@@ -575,6 +610,7 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   const double h = options_.preview_half_window_m, across_m = 0.02;
   const PointGrid grid(in_vehicle, std::hypot(h, across_m));
   std::vector<Eigen::Vector2d> local;
+  std::vector<double> weights;  // each local point's observations
   for (double s = options_.preview_step_m;; s += options_.preview_step_m) {
     // Advance along the arc of the current curvature.
     const double turn = curvature * options_.preview_step_m;
@@ -588,6 +624,7 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
     const Eigen::Vector2d reach(c * h + sn * across_m + 1e-9, sn * h + c * across_m + 1e-9);
     const Eigen::Vector2d box_lo = at - reach, box_hi = at + reach;
     local.clear();
+    weights.clear();
     double hi = -1.0;
     const Turn to_window(-heading);
     grid.for_each_near_in_box(at, box_lo, box_hi, [&](size_t j) {
@@ -597,6 +634,7 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
       const Eigen::Vector2d q = to_window(p - at);
       if (std::abs(q.x()) > h || std::abs(q.y()) > across_m) return;
       local.push_back(q);
+      weights.push_back(points_[j].observations);
       hi = std::max(hi, q.x());
     });
     if (hi < 0.5 * h) break;  // the evidence ends here
@@ -604,10 +642,10 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
     // suggests a change (a window across a joint reads about the mean of its two pieces).
     JoinedArcsOptions one_piece;
     one_piece.joint = false;
-    std::optional<JoinedArcs> fit = fit_joined_arcs(local, one_piece);
+    std::optional<JoinedArcs> fit = fit_joined_arcs(local, weights, one_piece);
     if (fit && std::abs(fit->curvature_1_m - origin.curvature_1_m) >
                    options_.preview_suspect_fraction * options_.preview_change_1_m)
-      fit = fit_joined_arcs(local);
+      fit = fit_joined_arcs(local, weights);
     if (!fit) break;
     at += Turn(heading)({0.0, fit->offset_m});
     heading += std::atan(fit->slope);
@@ -619,7 +657,7 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
     if (changed) {
       JoinedArcsOptions with_sigma;
       with_sigma.curvature_sigma = true;
-      const std::optional<JoinedArcs> again = fit_joined_arcs(local, with_sigma);
+      const std::optional<JoinedArcs> again = fit_joined_arcs(local, weights, with_sigma);
       changed = again && std::abs(curvature - origin.curvature_1_m) >
                              options_.preview_change_sigmas * again->curvature_sigma_1_m;
     }
@@ -842,11 +880,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   }
   points_ = std::move(kept);
   in_vehicle = points_in_vehicle_frame();
-  const Pose2::Map to_memory = vehicle_.map();
-  for (const Eigen::Vector2d& centre : evidence) {
-    points_.push_back({to_memory(centre), frame_, odometer_m_});
-    in_vehicle.push_back(centre);
-  }
+  add_evidence(evidence, &in_vehicle);
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) m = across_gap(in_view, in_vehicle);
   if (!m) {
@@ -866,6 +900,30 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   if (std::optional<LineMeasurement> forward = carried_forward(carried_back)) return *forward;
   if (std::optional<LineMeasurement> held = course_held(carried_back)) return *held;
   return carried_back;
+}
+
+void PathMemory::add_evidence(const std::vector<Eigen::Vector2d>& evidence,
+                              std::vector<Eigen::Vector2d>* in_vehicle) {
+  const Pose2::Map to_memory = vehicle_.map();
+  // The points remembered before this frame (none to fuse into with fuse_m 0).
+  const std::vector<Eigen::Vector2d> none;
+  const PointGrid grid(options_.fuse_m > 0.0 ? *in_vehicle : none, std::max(options_.fuse_m, 1e-3));
+  for (const Eigen::Vector2d& centre : evidence) {
+    const std::optional<size_t> nearest = grid.nearest(*in_vehicle, centre, options_.fuse_m);
+    if (!nearest) {
+      points_.push_back({to_memory(centre), frame_, odometer_m_});
+      in_vehicle->push_back(centre);
+      continue;
+    }
+    Point& point = points_[*nearest];
+    Eigen::Vector2d& p = (*in_vehicle)[*nearest];
+    const double n = point.observations;
+    p = (n * p + centre) / (n + 1.0);
+    point.p = to_memory(p);
+    point.frame = frame_;
+    point.seen_at_m = odometer_m_;
+    point.observations = std::min(point.observations + 1, options_.fuse_max_observations);
+  }
 }
 
 std::optional<LineMeasurement> PathMemory::course_held(const LineMeasurement& carried_back) const {

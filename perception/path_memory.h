@@ -24,6 +24,16 @@ struct PathMemoryOptions {
   // (a vehicle standing still).
   double keep_travel_m = 0.8;
   int keep_frames = 120;
+  // Each frame's evidence point is fused into the remembered point nearest to it within fuse_m
+  // (their mean, each observation counting alike up to fuse_max_observations, after which newer
+  // ones count for more), or added where none is that near: the memory holds each stretch of
+  // tape about once, not once per frame that saw it (agv bench: 312 points, not 1969, the memory
+  // 2.6x faster), and a point counts in the registration, the coverage tests and the fits as the
+  // observations it is the mean of. 0: every frame's evidence kept as it came. agv evaluate
+  // seeds 1-8, RMS after 0.5 m: 0.586 mm / 0.591 deg kept as it came, 0.593 / 0.600 fused at 2 mm,
+  // 0.603 / 0.730 at 1 mm (forks' few frames on the other leg move either way).
+  double fuse_m = 0.002;
+  int fuse_max_observations = 20;
   double window_m = 0.05;        // the tape this far either side of the origin gives the errors
   double min_cover_m = 0.025;    // ... and must reach at least this far on both sides
   double window_across_m = 0.1;  // ... and lie no further than this across it
@@ -163,11 +173,13 @@ struct PathMemoryOptions {
 // the line in view carried back to it. Each frame: the remembered centre-line points are moved
 // into the vehicle frame with the odometry's motion; where they overlap the line in view they
 // are registered to it (a small rotation and shift: the odometry's drift), the frame's evidence
-// is added, and what lies far behind is dropped; then the points around the origin are fitted
+// is fused into them (fuse_m) and what lies far behind is dropped; then the points around the origin are fitted
 // with one arc or two joined arcs (fit_joined_arcs: a joint under the vehicle is not smoothed
 // over). Until the remembered tape reaches both sides of the origin (the vehicle has not yet
 // driven onto tape it saw), the measurement is the line in view carried back, flagged
 // `extrapolated`.
+// The private functions that take `in_vehicle` take the remembered points in the vehicle frame in
+// the order of points_ (each counts as its observations).
 class PathMemory {
  public:
   explicit PathMemory(const PathMemoryOptions& options = {}) : options_(options) {}
@@ -193,7 +205,13 @@ class PathMemory {
     Eigen::Vector2d p;       // in the memory frame
     int frame = 0;           // which frame saw it
     double seen_at_m = 0.0;  // the odometer then
+    int observations = 1;    // how many evidence points it is the mean of (at most
+                             // fuse_max_observations)
   };
+  // Fuses this frame's evidence (vehicle frame) into the remembered points, whose positions in
+  // the vehicle frame `in_vehicle` holds and keeps up to date.
+  void add_evidence(const std::vector<Eigen::Vector2d>& evidence,
+                    std::vector<Eigen::Vector2d>* in_vehicle);
   std::vector<Eigen::Vector2d> evidence_of(const LineDetection& detection);
   // Where the legs of a junction in view still overlap (a Y fork's branch leaving tangentially),
   // a chord spans both: from the other leg's far edge to the followed leg's outer edge. The

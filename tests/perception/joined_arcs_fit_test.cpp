@@ -188,6 +188,47 @@ TEST(JoinedArcsFit, OnePieceIsTheLeastSquaresOfTheGoodPoints) {
   EXPECT_EQ(joined->curvature_1_m, joined->curvature_far_1_m);
 }
 
+// A point with weight n counts as n copies of it: the weighted fit (one piece, and joined arcs
+// with their breakpoint search and outlier pass) equals the plain fit of the points repeated, on
+// a line joined to an arc with noise and a few points far off.
+TEST(JoinedArcsFit, AWeightCountsAsThatManyCopies) {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int> weight(1, 20);
+  std::vector<Eigen::Vector2d> points = line_then_arc(0.002, 0.01, 3.0, -0.05, 0.05, 5e-5, 9);
+  for (size_t i = 0; i < points.size(); i += 37) points[i].y() += 0.002;  // far off
+  std::vector<double> weights;
+  std::vector<Eigen::Vector2d> repeated;
+  for (const Eigen::Vector2d& p : points) {
+    weights.push_back(weight(rng));
+    repeated.insert(repeated.end(), static_cast<size_t>(weights.back()), p);
+  }
+  JoinedArcsOptions one_piece;
+  one_piece.joint = false;
+  for (const JoinedArcsOptions& options : {JoinedArcsOptions{}, one_piece}) {
+    const std::optional<JoinedArcs> weighted = fit_joined_arcs(points, weights, options);
+    const std::optional<JoinedArcs> copies = fit_joined_arcs(repeated, options);
+    ASSERT_TRUE(weighted && copies);
+    EXPECT_EQ(weighted->points, copies->points);
+    EXPECT_LT(weighted->points, static_cast<int>(repeated.size()));  // the far points dropped
+    EXPECT_EQ(weighted->break_x_m.has_value(), copies->break_x_m.has_value());
+    if (weighted->break_x_m && copies->break_x_m) {
+      EXPECT_NEAR(*weighted->break_x_m, *copies->break_x_m, 1e-12);
+    }
+    EXPECT_NEAR(weighted->offset_m, copies->offset_m, 1e-9);
+    EXPECT_NEAR(weighted->slope, copies->slope, 1e-8);
+    EXPECT_NEAR(weighted->curvature_1_m, copies->curvature_1_m, 1e-5);
+    EXPECT_NEAR(weighted->curvature_far_1_m, copies->curvature_far_1_m, 1e-5);
+    EXPECT_NEAR(weighted->rms_m, copies->rms_m, 1e-9);
+  }
+  // Where every weight is 1, the plain fit exactly.
+  const std::optional<JoinedArcs> ones =
+      fit_joined_arcs(points, std::vector<double>(points.size(), 1.0));
+  const std::optional<JoinedArcs> plain = fit_joined_arcs(points);
+  ASSERT_TRUE(ones && plain);
+  EXPECT_EQ(ones->offset_m, plain->offset_m);
+  EXPECT_EQ(ones->curvature_1_m, plain->curvature_1_m);
+}
+
 // Too few points, or points on one side of x = 0 only: no fit.
 TEST(JoinedArcsFit, RefusesTooFewPointsOrOneSide) {
   EXPECT_FALSE(fit_joined_arcs(line_then_arc(0.0, 1.0, 1.0, -0.001, 0.001, 0.0, 5)));

@@ -65,5 +65,37 @@ TEST(OutlierLimit, TheLargestAtTheLimitIsKept) {
   EXPECT_LE(1e-4, limit);
 }
 
+// A magnitude with weight n keeps and drops what n copies of it would: the weighted limit, on
+// Gaussian residuals with outliers and on heavy tails, against the unweighted one over the
+// magnitudes repeated.
+TEST(OutlierLimit, AWeightCountsAsThatManyCopies) {
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> gauss(0.0, 1e-4);
+  std::cauchy_distribution<double> heavy(0.0, 1e-4);
+  std::uniform_int_distribution<int> count(1, 60), weight(1, 25);
+  int dropping = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    std::vector<double> magnitudes(count(rng)), weights, repeated;
+    for (size_t i = 0; i < magnitudes.size(); ++i) {
+      double r = trial % 2 == 0 ? gauss(rng) : heavy(rng);
+      if (trial % 3 == 0 && i % 5 == 0) r = 2e-3;
+      magnitudes[i] = std::abs(r);
+      weights.push_back(weight(rng));
+      repeated.insert(repeated.end(), static_cast<size_t>(weights.back()), magnitudes[i]);
+    }
+    const double sigmas = 4.0;
+    const double limit = outlier_limit(magnitudes, weights, sigmas);
+    const double reference = limit_from_the_median(repeated, sigmas);
+    for (double r : magnitudes) {
+      ASSERT_EQ(r <= limit, r <= reference) << "trial " << trial << " r " << r;
+      dropping += r > reference ? 1 : 0;
+    }
+    if (std::isfinite(limit)) {
+      EXPECT_EQ(limit, reference);
+    }
+  }
+  EXPECT_GT(dropping, 500);
+}
+
 }  // namespace
 }  // namespace agv::perception
