@@ -35,16 +35,29 @@ double outlier_limit(const std::vector<double>& magnitudes, const std::vector<do
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     median = sorted[sorted.size() / 2];
   } else {
-    std::vector<size_t> order(magnitudes.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::sort(order.begin(), order.end(),
-              [&](size_t a, size_t b) { return magnitudes[a] < magnitudes[b]; });
-    double counted = 0.0;
-    for (size_t i : order) {
-      counted += weight(i);
-      median = magnitudes[i];
-      if (counted > median_rank) break;
+    // The magnitude at which the weights counted from the smallest first exceed median_rank, by
+    // selection: split at the middle, keep the part that holds that rank.
+    std::vector<std::pair<double, double>> pairs(magnitudes.size());  // (magnitude, weight)
+    for (size_t i = 0; i < pairs.size(); ++i) pairs[i] = {magnitudes[i], weight(i)};
+    auto by_magnitude = [](const auto& a, const auto& b) { return a.first < b.first; };
+    auto lo = pairs.begin(), hi = pairs.end();
+    double rank = median_rank;
+    while (hi - lo > 1) {
+      const auto middle = lo + (hi - lo) / 2;
+      std::nth_element(lo, middle, hi, by_magnitude);
+      double below = 0.0;
+      for (auto it = lo; it != middle; ++it) below += it->second;
+      if (below > rank) {
+        hi = middle;
+      } else if (below + middle->second > rank) {
+        lo = middle;
+        hi = middle + 1;
+      } else {
+        rank -= below + middle->second;
+        lo = middle + 1;
+      }
     }
+    median = lo == pairs.end() ? pairs.back().first : lo->first;
   }
   return outlier_sigmas * std::max(1e-6, 1.4826 * median);
 }

@@ -122,15 +122,7 @@ class EvidenceIndex {
   // neighbourhood's size, which every remembered point would look at).
   static double fine_cell_m(const std::vector<Eigen::Vector2d>& evidence, double neighbourhood_m) {
     if (evidence.empty()) return neighbourhood_m;
-    Eigen::Vector2d lo = evidence.front(), hi = lo;
-    for (const Eigen::Vector2d& e : evidence) {
-      lo = lo.cwiseMin(e);
-      hi = hi.cwiseMax(e);
-    }
-    const Eigen::Vector2d size = hi - lo;
-    const double cells = static_cast<double>(PointGrid::max_cells(evidence.size()));
-    return std::max(0.25 * neighbourhood_m, 1.1 * std::sqrt((size.x() + neighbourhood_m) *
-                                                            (size.y() + neighbourhood_m) / cells));
+    return PointGrid::dense_cell_m(evidence, 0.25 * neighbourhood_m, neighbourhood_m);
   }
   PointGrid fine_grid_;
   std::vector<LocalCourse> courses_;
@@ -905,9 +897,12 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
 void PathMemory::add_evidence(const std::vector<Eigen::Vector2d>& evidence,
                               std::vector<Eigen::Vector2d>* in_vehicle) {
   const Pose2::Map to_memory = vehicle_.map();
-  // The points remembered before this frame (none to fuse into with fuse_m 0).
+  // The points remembered before this frame (none to fuse into with fuse_m 0), in cells as small
+  // as their spread allows a dense grid.
   const std::vector<Eigen::Vector2d> none;
-  const PointGrid grid(options_.fuse_m > 0.0 ? *in_vehicle : none, std::max(options_.fuse_m, 1e-3));
+  const std::vector<Eigen::Vector2d>& remembered = options_.fuse_m > 0.0 ? *in_vehicle : none;
+  const PointGrid grid(remembered,
+                       PointGrid::dense_cell_m(remembered, std::max(options_.fuse_m, 1e-3), 0.0));
   for (const Eigen::Vector2d& centre : evidence) {
     const std::optional<size_t> nearest = grid.nearest(*in_vehicle, centre, options_.fuse_m);
     if (!nearest) {

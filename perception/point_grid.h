@@ -49,6 +49,21 @@ class PointGrid {
 
   // The most cells of a dense grid for this many points (else every lookup scans them all).
   static size_t max_cells(size_t points) { return 4 * points + 1024; }
+  // A cell size of at least smallest_m for which the points' bounding box, grown by margin_m,
+  // holds a dense grid (points spread far for their number need larger cells).
+  static double dense_cell_m(const std::vector<Eigen::Vector2d>& points, double smallest_m,
+                             double margin_m) {
+    if (points.empty()) return smallest_m;
+    Eigen::Vector2d lo = points.front(), hi = lo;
+    for (const Eigen::Vector2d& p : points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const Eigen::Vector2d size = hi - lo;
+    const double cells = static_cast<double>(max_cells(points.size()));
+    return std::max(smallest_m,
+                    1.1 * std::sqrt((size.x() + margin_m) * (size.y() + margin_m) / cells));
+  }
 
   // The index of the point nearest to p within radius_m (the lowest index among equals), if
   // any: the cells in rings of growing distance around p's, until the rings left lie farther
