@@ -213,7 +213,7 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
       if (!use[i]) continue;
       const int obs_side = obs[i].offset == 0.0 ? 0 : (obs[i].offset > 0.0 ? 1 : -1);
       if (obs_side != side) continue;
-      by_position.emplace_back(m.arc_position(obs[i].p), residual(curve, obs[i]));
+      by_position.emplace_back(curve.arc_position(obs[i].p), residual(curve, obs[i]));
     }
     if (by_position.size() < 8) continue;
     std::sort(by_position.begin(), by_position.end());
@@ -428,9 +428,10 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   fit.rms_m = robust_scale(&scored);
   fit.s_min_m = std::numeric_limits<double>::infinity();
   fit.s_max_m = -fit.s_min_m;
+  const CurveModel::Prepared prepared = model.prepared();
   for (size_t i = 0; i < points.size(); ++i) {
     if (!fit.inliers[i]) continue;
-    const double s = model.arc_position(points[i]);
+    const double s = prepared.arc_position(points[i]);
     fit.s_min_m = std::min(fit.s_min_m, s);
     fit.s_max_m = std::max(fit.s_max_m, s);
   }

@@ -36,6 +36,7 @@ FloorMap::FloorMap(const CameraModel& camera) {
       }
     }
   }
+  cv::merge(std::vector<cv::Mat>{x_m_, y_m_}, xy_m_);
   view_centre_m_ = 0.5 * (lo + hi);
   view_radius_m_ = 0.5 * (hi - lo).norm();
 
@@ -90,13 +91,15 @@ std::optional<Eigen::Vector2d> FloorMap::at(double u_px, double v_px) const {
   const int u0 = std::min(static_cast<int>(u_px), x_m_.cols - 2);
   const int v0 = std::min(static_cast<int>(v_px), x_m_.rows - 2);
   const double fu = u_px - u0, fv = v_px - v0;
-  auto bilinear = [&](const cv::Mat& m) {
-    const float* r0 = m.ptr<float>(v0);
-    const float* r1 = m.ptr<float>(v0 + 1);
-    return (1 - fv) * ((1 - fu) * r0[u0] + fu * r0[u0 + 1]) +
-           fv * ((1 - fu) * r1[u0] + fu * r1[u0 + 1]);
+  // The four neighbours' x (channel 0) or y (channel 1), from the interleaved map: both in one
+  // or two cache lines a row.
+  const float* r0 = xy_m_.ptr<float>(v0) + 2 * u0;
+  const float* r1 = xy_m_.ptr<float>(v0 + 1) + 2 * u0;
+  auto bilinear = [&](int channel) {
+    return (1 - fv) * ((1 - fu) * r0[channel] + fu * r0[2 + channel]) +
+           fv * ((1 - fu) * r1[channel] + fu * r1[2 + channel]);
   };
-  const Eigen::Vector2d p(bilinear(x_m_), bilinear(y_m_));
+  const Eigen::Vector2d p(bilinear(0), bilinear(1));
   if (!std::isfinite(p.x()) || !std::isfinite(p.y())) return std::nullopt;
   return p;
 }

@@ -38,6 +38,7 @@ class FloorMap {
 
  private:
   cv::Mat x_m_, y_m_, footprint_m_;
+  cv::Mat xy_m_;  // CV_32FC2: x_m_ and y_m_ interleaved, for at()
   Eigen::Vector2d view_centre_m_ = Eigen::Vector2d::Zero();
   double view_radius_m_ = 0.0;
   double typical_footprint_m_ = 0.0;

@@ -17,9 +17,10 @@ double quantile(std::vector<double> values, double q) {
   return values[i];
 }
 
-// Width of the tape at a chord: the chord's extent across the curve.
-double chord_width(const Chord& chord, const CurveModel& model) {
-  const Eigen::Vector2d ahead = model.tangent_at(model.arc_position(chord.centre()));
+// Width of the tape at a chord: the chord's extent across the curve (`prepared`: the model's).
+double chord_width(const Chord& chord, const CurveModel& model,
+                   const CurveModel::Prepared& prepared) {
+  const Eigen::Vector2d ahead = model.tangent_at(prepared.arc_position(chord.centre()));
   return std::abs(Eigen::Vector2d(-ahead.y(), ahead.x()).dot(chord.a - chord.b));
 }
 
@@ -103,8 +104,9 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   const CurveFit first = fit_curve_robust(c.centres, options.fit, &available);
   if (!first.ok || first.inlier_count < options.min_points) return std::nullopt;
   std::vector<double> widths;
+  const CurveModel::Prepared first_curve = first.model.prepared();
   for (size_t i = 0; i < chords.size(); ++i) {
-    if (first.inliers[i]) widths.push_back(chord_width(chords[i], first.model));
+    if (first.inliers[i]) widths.push_back(chord_width(chords[i], first.model, first_curve));
   }
   // The edges lie at half the tape's measured width (real tape differs from its nominal width
   // by millimetres; the configured width is checked afterwards).
@@ -122,9 +124,10 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   // the sides it gives, and refit from there.
   {
     std::vector<double> edge_widths;
+    const CurveModel::Prepared edge_curve = edge_fit.model.prepared();
     for (size_t i = 0; i < chords.size(); ++i) {
       if (edge_fit.edge_inliers[i] == 3)
-        edge_widths.push_back(chord_width(chords[i], edge_fit.model));
+        edge_widths.push_back(chord_width(chords[i], edge_fit.model, edge_curve));
     }
     std::vector<double> firsts_again, seconds_again;
     const double half_width_again_m = 0.5 * quantile(edge_widths, 0.5);
@@ -164,7 +167,7 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
     }
     clean[i] = true;
     ++clean_count;
-    const double s = edge_fit.model.arc_position(c.centres[i]);
+    const double s = edge_curve.arc_position(c.centres[i]);
     clean_s_min = std::min(clean_s_min, s);
     clean_s_max = std::max(clean_s_max, s);
   }
@@ -270,6 +273,7 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
   line.s_min_m = fit.s_min_m;
   line.s_max_m = fit.s_max_m;
   line.points_used = fit.inlier_count;
+  const CurveModel::Prepared curve = fit.model.prepared();
   std::vector<double> widths;
   for (size_t i = 0; i < chords.size(); ++i) {
     if (!fit.inliers[i]) continue;
@@ -277,7 +281,7 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
     // Width and clean chords: both edges on this tape (not one edge at a fork).
     if (candidate.edge_inliers.empty() || candidate.edge_inliers[i] == 3) {
       line.clean_chords.push_back(static_cast<int>(i));
-      widths.push_back(chord_width(chords[i], fit.model));
+      widths.push_back(chord_width(chords[i], fit.model, curve));
     }
   }
   line.width_m = quantile(widths, 0.5);
@@ -291,14 +295,13 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
   // pieces of one S-bend meet end to end, not alongside; a texture's alignment within wide tape
   // runs inside it: seed 9, sequence 6).
   int near = 0, near_unexplained = 0;
-  const CurveModel::Prepared curve = fit.model.prepared();
   for (size_t i = 0; i < chords.size(); ++i) {
     if (std::abs(curve.signed_distance(c.centres[i])) >= std::max(line.width_m, 0.005)) continue;
     ++near;
     // A chord of a line accepted before, where this one's evidence runs alongside it.
     bool explained = !fit.inliers[i] && !explained_by_others.empty() && explained_by_others[i];
     if (explained) {
-      const double s = fit.model.arc_position(c.centres[i]);
+      const double s = curve.arc_position(c.centres[i]);
       explained = s >= fit.s_min_m && s <= fit.s_max_m;
     }
     if (!explained) ++near_unexplained;
@@ -441,7 +444,7 @@ std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const C
   std::vector<Eigen::Vector2d> samples;  // (s, d)
   for (size_t i = 0; i < chords.size(); ++i) {
     if (usable[i])
-      samples.emplace_back(prior.arc_position(c.centres[i]),
+      samples.emplace_back(prior_curve.arc_position(c.centres[i]),
                            prior_curve.signed_distance(c.centres[i]));
   }
   if (static_cast<int>(samples.size()) < options.min_points) {

@@ -691,7 +691,7 @@ std::vector<bool> PathMemory::on_other_lines(const LineDetection& detection,
     for (size_t other = 0; other < detection.lines.size() && !on_other[i]; ++other) {
       if (static_cast<int>(other) == detection.followed) continue;
       const DetectedLine& line = detection.lines[other];
-      const double s = line.model.arc_position(p);
+      const double s = curves[other].arc_position(p);
       on_other[i] = s >= line.s_min_m && s <= line.s_max_m &&
                     std::abs(curves[other].signed_distance(p)) < 0.5 * line.width_m;
     }
@@ -769,7 +769,7 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& de
       if (static_cast<int>(other) == detection.followed || sides[other] == 0.0) continue;
       const DetectedLine& other_line = detection.lines[other];
       const CurveModel::Prepared& curve = curves[other];
-      const double s = other_line.model.arc_position(chord.centre());
+      const double s = curve.arc_position(chord.centre());
       if (s < other_line.s_min_m - w || s > other_line.s_max_m + w ||
           std::abs(curve.signed_distance(chord.centre())) > w)
         continue;
