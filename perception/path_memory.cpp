@@ -44,7 +44,8 @@ class EvidenceIndex {
         prepared_line_(line.prepared()),
         neighbourhood_m_(neighbourhood_m),
         grid_(evidence, neighbourhood_m),
-        fine_grid_(evidence, fine_cell_m(evidence, neighbourhood_m)),
+        fine_grid_(evidence,
+                   PointGrid::dense_cell_m(evidence, 0.25 * neighbourhood_m, neighbourhood_m)),
         courses_(evidence.size()),
         computed_(evidence.size(), false),
         in_neighbourhood_(evidence.size(), false) {}
@@ -120,10 +121,6 @@ class EvidenceIndex {
   // For the nearest point: cells a quarter of the neighbourhood, or as small as the evidence's
   // spread allows a dense grid (a full search's 480 points 0.4 mm apart hold 20 a cell of the
   // neighbourhood's size, which every remembered point would look at).
-  static double fine_cell_m(const std::vector<Eigen::Vector2d>& evidence, double neighbourhood_m) {
-    if (evidence.empty()) return neighbourhood_m;
-    return PointGrid::dense_cell_m(evidence, 0.25 * neighbourhood_m, neighbourhood_m);
-  }
   PointGrid fine_grid_;
   std::vector<LocalCourse> courses_;
   std::vector<bool> computed_;

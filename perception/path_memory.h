@@ -28,7 +28,7 @@ struct PathMemoryOptions {
   // (their mean, each observation counting alike up to fuse_max_observations, after which newer
   // ones count for more), or added where none is that near: the memory holds each stretch of
   // tape about once, not once per frame that saw it (agv bench: 312 points, not 1969, the memory
-  // 2.6x faster), and a point counts in the registration, the coverage tests and the fits as the
+  // 2.3x faster), and a point counts in the registration, the coverage tests and the fits as the
   // observations it is the mean of. 0: every frame's evidence kept as it came. agv evaluate
   // seeds 1-8, RMS after 0.5 m: 0.586 mm / 0.591 deg kept as it came, 0.593 / 0.600 fused at 2 mm,
   // 0.603 / 0.730 at 1 mm (forks' few frames on the other leg move either way).
@@ -173,10 +173,10 @@ struct PathMemoryOptions {
 // the line in view carried back to it. Each frame: the remembered centre-line points are moved
 // into the vehicle frame with the odometry's motion; where they overlap the line in view they
 // are registered to it (a small rotation and shift: the odometry's drift), the frame's evidence
-// is fused into them (fuse_m) and what lies far behind is dropped; then the points around the origin are fitted
-// with one arc or two joined arcs (fit_joined_arcs: a joint under the vehicle is not smoothed
-// over). Until the remembered tape reaches both sides of the origin (the vehicle has not yet
-// driven onto tape it saw), the measurement is the line in view carried back, flagged
+// is fused into them (fuse_m) and what lies far behind is dropped; then the points around the
+// origin are fitted with one arc or two joined arcs (fit_joined_arcs: a joint under the vehicle
+// is not smoothed over). Until the remembered tape reaches both sides of the origin (the vehicle
+// has not yet driven onto tape it saw), the measurement is the line in view carried back, flagged
 // `extrapolated`.
 // The private functions that take `in_vehicle` take the remembered points in the vehicle frame in
 // the order of points_ (each counts as its observations).
