@@ -10,12 +10,14 @@ double integrated_autocorrelation_time(const std::vector<double>& values) {
   double mean = 0.0, variance = 0.0;
   for (double v : values) mean += v;
   mean /= n;
-  for (double v : values) variance += (v - mean) * (v - mean);
+  std::vector<double> centred(n);
+  for (std::size_t i = 0; i < n; ++i) centred[i] = values[i] - mean;
+  for (double c : centred) variance += c * c;
   double tau = 1.0;
   if (!(variance > 0.0)) return tau;
   for (std::size_t lag = 1; lag < n / 4; ++lag) {
     double sum = 0.0;
-    for (std::size_t i = 0; i + lag < n; ++i) sum += (values[i] - mean) * (values[i + lag] - mean);
+    for (std::size_t i = 0; i + lag < n; ++i) sum += centred[i] * centred[i + lag];
     const double rho = sum / variance;
     if (rho < 0.05) break;
     tau += 2.0 * rho;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -67,15 +68,6 @@ cv::Vec3d median_colour(const cv::Mat& frame) {
   return median;
 }
 
-cv::Vec3d pixel(const cv::Mat& frame, int y, int x) {
-  if (frame.channels() == 1) {
-    const double g = frame.at<unsigned char>(y, x);
-    return {g, g, g};
-  }
-  const cv::Vec3b& p = frame.at<cv::Vec3b>(y, x);
-  return {static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2])};
-}
-
 // Squared colour distances from `floor` (integers up to 3 * 255^2; a grey level counts for its
 // three channels) of one row's `cols` pixels, and their square roots rounded down. A float's
 // square root of an integer below 2^24 is rounded down to the same integer as the exact one: it
@@ -104,42 +96,45 @@ void colour_distances(const unsigned char* row, int cols, int channels, const in
 std::optional<cv::Vec3d> dominant_outlier_offset(const cv::Mat& frame, const cv::Vec3d& floor) {
   const int channels = frame.channels();
   const size_t n = frame.total();
-  // Squared colour distances and a histogram of their square roots (rounded down).
+  // A histogram of the colour distances (rounded down), a row at a time.
   constexpr int kBins = 443;
-  std::vector<int> distance_sq(n), distance(n);
+  std::vector<int> distance_sq(frame.cols), distance(frame.cols);
   const int floor_level[3] = {static_cast<int>(floor[0]), static_cast<int>(floor[1]),
                               static_cast<int>(floor[2])};
-  size_t i = 0;
-  for (int y = 0; y < frame.rows; ++y, i += frame.cols) {
+  BinCounter counter(kBins);
+  for (int y = 0; y < frame.rows; ++y) {
     colour_distances(frame.ptr<unsigned char>(y), frame.cols, channels, floor_level,
-                     &distance_sq[i], &distance[i]);
+                     distance_sq.data(), distance.data());
+    counter.add(distance.data(), frame.cols);
   }
-  const std::vector<int> histogram = bin_counts(distance.data(), n, kBins);
+  const std::vector<int> histogram = counter.counts();
   const size_t keep = std::max<size_t>(8, static_cast<size_t>(n * kOutlierFraction));
   if (n <= keep) return std::nullopt;
   int cutoff = kBins - 1;
   for (size_t above = 0; cutoff > 0 && (above += histogram[cutoff]) < keep;) --cutoff;
   const int cutoff_sq = cutoff * cutoff;
 
-  auto offset_at = [&](size_t index) {
-    const int y = static_cast<int>(index / frame.cols), x = static_cast<int>(index % frame.cols);
-    return pixel(frame, y, x) - floor;
-  };
-  cv::Vec3d mean(0, 0, 0);
-  int count = 0;
-  for (i = 0; i < n; ++i) {
-    if (distance_sq[i] < cutoff_sq) continue;
-    mean += offset_at(i);
-    ++count;
+  // The outliers' offsets from the floor colour (at most a few per cent of the pixels).
+  std::vector<cv::Vec3d> offsets;
+  offsets.reserve(2 * keep);
+  for (int y = 0; y < frame.rows; ++y) {
+    const unsigned char* row = frame.ptr<unsigned char>(y);
+    colour_distances(row, frame.cols, channels, floor_level, distance_sq.data(), distance.data());
+    for (int x = 0; x < frame.cols; ++x) {
+      if (distance_sq[x] < cutoff_sq) continue;
+      offsets.push_back(channels == 1
+                            ? cv::Vec3d::all(row[x]) - floor
+                            : cv::Vec3d(row[3 * x], row[3 * x + 1], row[3 * x + 2]) - floor);
+    }
   }
-  if (count == 0) return std::nullopt;
-  mean /= count;
+  if (offsets.empty()) return std::nullopt;
+  cv::Vec3d mean(0, 0, 0);
+  for (const cv::Vec3d& d : offsets) mean += d;
+  mean /= static_cast<int>(offsets.size());
   // Keep those on the mean's side: tape is one colour, floor marks of the other sign are not it.
   cv::Vec3d side(0, 0, 0);
-  count = 0;
-  for (i = 0; i < n; ++i) {
-    if (distance_sq[i] < cutoff_sq) continue;
-    const cv::Vec3d d = offset_at(i);
+  int count = 0;
+  for (const cv::Vec3d& d : offsets) {
     if (d.dot(mean) <= 0.0) continue;
     side += d;
     ++count;
@@ -185,23 +180,28 @@ std::optional<ContrastAxis> estimate_contrast_axis(const cv::Mat& frame,
 
 namespace {
 
-// bar_response_samples along columns (below).
-cv::Mat bar_response_down_columns(const cv::Mat& frame, int channel, int bar, int flank,
-                                  int offset) {
-  const int channels = frame.channels();
-  const int length = frame.rows, pad = bar + offset + flank;
-  const int columns = (frame.cols + 1) / 2;  // every second column
-  // sums(i, j): the sum of column 2j's values at rows -pad .. i - pad - 1, clamped into the image.
+// The running sums of one packed line of values down to the next: next[j] = previous[j] +
+// values[j], in a loop that vectorises.
+AGV_VECTOR_CLONES
+void add_line(const int* __restrict previous, const unsigned char* __restrict values, int n,
+              int* __restrict next) {
+  for (int j = 0; j < n; ++j) next[j] = previous[j] + values[j];
+}
+
+// bar_response_samples down columns (below), of `even_columns`: the channel's every second
+// column, packed.
+cv::Mat bar_response_down_columns(const cv::Mat& even_columns, int bar, int flank, int offset) {
+  const int length = even_columns.rows, pad = bar + offset + flank;
+  const int columns = even_columns.cols;
+  // sums(i, j): the sum of column j's values at rows -pad .. i - pad - 1, clamped into the image.
   cv::Mat sums(length + 2 * pad + 1, columns, CV_32S);
   sums.row(0).setTo(0);
   for (int i = 0; i < length + 2 * pad; ++i) {
-    const unsigned char* row = frame.ptr<unsigned char>(std::clamp(i - pad, 0, length - 1));
-    const int* previous = sums.ptr<int>(i);
-    int* next = sums.ptr<int>(i + 1);
-    for (int j = 0; j < columns; ++j) next[j] = previous[j] + row[2 * j * channels + channel];
+    add_line(sums.ptr<int>(i), even_columns.ptr<unsigned char>(std::clamp(i - pad, 0, length - 1)),
+             columns, sums.ptr<int>(i + 1));
   }
   const float inverse_bar = 1.0f / bar, inverse_flank = 1.0f / flank;
-  cv::Mat out((frame.rows + 1) / 2, columns, CV_32F);
+  cv::Mat out((length + 1) / 2, columns, CV_32F);
   for (int x = 0; x < length; x += 2) {
     // The windows of `size` rows whose middle (size / 2) is at row x, and at x -+ offset.
     const int from_bar = x - bar / 2 + pad;
@@ -223,34 +223,30 @@ cv::Mat bar_response_down_columns(const cv::Mat& frame, int channel, int bar, in
   return out;
 }
 
-// bar_response_samples along rows (below).
-cv::Mat bar_response_along_rows(const cv::Mat& frame, int channel, int bar, int flank, int offset) {
+// One channel of an 8-bit frame as bar_response_samples scans it: its every second column,
+// packed (down columns), and its every second row, transposed (along rows: the same scan down
+// the columns of the transpose, where the running sums of all lines go together).
+struct ChannelSamples {
+  cv::Mat even_columns, even_rows_transposed;
+};
+std::vector<ChannelSamples> channel_samples(const cv::Mat& frame) {
   const int channels = frame.channels();
-  const int length = frame.cols, pad = bar + offset + flank;
-  cv::Mat out((frame.rows + 1) / 2, (frame.cols + 1) / 2, CV_32F);
-  std::vector<int> sums(length + 2 * pad + 1);
-  const float inverse_bar = 1.0f / bar, inverse_flank = 1.0f / flank;
-  for (int line = 0; line < frame.rows; line += 2) {
-    const unsigned char* first = frame.ptr<unsigned char>(line) + channel;
-    // sums[i]: the sum of the values at positions -pad .. i - pad - 1, clamped into the line.
-    sums[0] = 0;
-    const int before = first[0], after = first[(length - 1) * channels];
-    for (int i = 0; i < pad; ++i) sums[i + 1] = sums[i] + before;
-    for (int at = 0; at < length; ++at) sums[pad + at + 1] = sums[pad + at] + first[at * channels];
-    for (int i = pad + length; i < length + 2 * pad; ++i) sums[i + 1] = sums[i] + after;
-    // The mean of the window of `size` values whose middle (size / 2) is at position x
-    // (times the reciprocal of the size: divisions cost more than the rest of this loop).
-    auto mean = [&](int x, int size, float inverse_size) {
-      const int from = x - size / 2 + pad;
-      return static_cast<float>(sums[from + size] - sums[from]) * inverse_size;
-    };
-    float* o = out.ptr<float>(line / 2);
-    for (int x = 0; x < length; x += 2) {
-      o[x / 2] = mean(x, bar, inverse_bar) -
-                 0.5f * (mean(std::max(0, x - offset), flank, inverse_flank) +
-                         mean(std::min(length - 1, x + offset), flank, inverse_flank));
+  const int half_cols = (frame.cols + 1) / 2;
+  std::vector<ChannelSamples> out(channels);
+  for (ChannelSamples& channel : out) channel.even_columns.create(frame.rows, half_cols, CV_8U);
+  for (int y = 0; y < frame.rows; ++y) {
+    const unsigned char* from = frame.ptr<unsigned char>(y);
+    for (int c = 0; c < channels; ++c) {
+      unsigned char* to = out[c].even_columns.ptr<unsigned char>(y);
+      for (int j = 0; j < half_cols; ++j) to[j] = from[2 * j * channels + c];
     }
   }
+  const cv::Mat even_rows((frame.rows + 1) / 2, frame.cols, frame.type(),
+                          const_cast<unsigned char*>(frame.ptr<unsigned char>()),
+                          2 * frame.step[0]);
+  std::vector<cv::Mat> planes;
+  cv::split(even_rows, planes);
+  for (int c = 0; c < channels; ++c) cv::transpose(planes[c], out[c].even_rows_transposed);
   return out;
 }
 
@@ -259,12 +255,16 @@ cv::Mat bar_response_along_rows(const cv::Mat& frame, int channel, int bar, int 
 // over the bar minus the mean of the two flanks of half its width, beyond it; the image's edge
 // repeated outwards. The box means come from running sums over each scanned line (the same
 // values as OpenCV's blur with the anchor at the window's middle, at a fraction of its cost);
-// along columns, the running sums of all scanned columns go together, row by row.
-cv::Mat bar_response_samples(const cv::Mat& frame, int channel, int bar, bool horizontal) {
+// the running sums of all scanned lines go together, line by line, down the columns (of the
+// transpose, along rows).
+cv::Mat bar_response_samples(const ChannelSamples& channel, int bar, bool horizontal) {
   const int flank = std::max(1, bar / 2);
   const int offset = (bar + flank + 1) / 2;
-  return horizontal ? bar_response_along_rows(frame, channel, bar, flank, offset)
-                    : bar_response_down_columns(frame, channel, bar, flank, offset);
+  if (!horizontal) return bar_response_down_columns(channel.even_columns, bar, flank, offset);
+  cv::Mat along_rows;
+  cv::transpose(bar_response_down_columns(channel.even_rows_transposed, bar, flank, offset),
+                along_rows);
+  return along_rows;
 }
 
 // The bins min(max_bin, (v - lo) x inverse_width) of n values v, in a loop that vectorises.
@@ -273,6 +273,35 @@ void bins_of(const float* __restrict values, size_t n, float lo, float inverse_w
              int* __restrict bins) {
   for (size_t i = 0; i < n; ++i)
     bins[i] = std::min(max_bin, static_cast<int>((values[i] - lo) * inverse_width));
+}
+
+// The smallest and the largest of n > 0 finite values (cv::minMaxLoc's result; it also finds
+// their places, at ten times the cost), eight at a time (GCC's vector extension: it does not
+// vectorise a min / max reduction over floats by itself).
+AGV_VECTOR_CLONES
+void value_range(const float* values, size_t n, float* lo, float* hi) {
+  using Lanes = float __attribute__((vector_size(32)));
+  constexpr size_t kLanes = sizeof(Lanes) / sizeof(float);
+  Lanes lane_lo, lane_hi;
+  for (size_t j = 0; j < kLanes; ++j) lane_lo[j] = lane_hi[j] = values[0];
+  size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    Lanes v;
+    std::memcpy(&v, values + i, sizeof v);
+    lane_lo = v < lane_lo ? v : lane_lo;
+    lane_hi = v > lane_hi ? v : lane_hi;
+  }
+  float smallest = lane_lo[0], largest = lane_hi[0];
+  for (size_t j = 1; j < kLanes; ++j) {
+    smallest = std::min(smallest, lane_lo[j]);
+    largest = std::max(largest, lane_hi[j]);
+  }
+  for (; i < n; ++i) {
+    smallest = std::min(smallest, values[i]);
+    largest = std::max(largest, values[i]);
+  }
+  *lo = smallest;
+  *hi = largest;
 }
 
 // The distribution of a set of values as a 1024-bin histogram over their range, the values
@@ -284,14 +313,14 @@ class Distribution {
   // `values` (CV_32F, continuous) must outlive the distribution.
   explicit Distribution(const cv::Mat& values)
       : values_(values.ptr<float>()), size_(values.total()), n_(static_cast<double>(size_)) {
-    double lo = 0.0, hi = 0.0;
-    cv::minMaxLoc(values, &lo, &hi);
-    lo_ = static_cast<float>(lo);
-    width_ = std::max(1e-12, (hi - lo) / kBins);
+    float lo = 0.0f, hi = 0.0f;
+    value_range(values_, size_, &lo, &hi);
+    lo_ = lo;
+    width_ = std::max(1e-12, (static_cast<double>(hi) - lo) / kBins);
     inverse_width_ = static_cast<float>(1.0 / width_);
-    bins_.resize(size_);
-    bins_of(values_, size_, lo_, inverse_width_, kBins - 1, bins_.data());
-    const std::vector<int> counts = bin_counts(bins_.data(), size_, kBins);
+    BinCounter counter(kBins);
+    for_each_chunk([&](const int* bins, size_t, size_t count) { counter.add(bins, count); });
+    const std::vector<int> counts = counter.counts();
     below_.resize(kBins + 1, 0);
     for (int b = 0; b < kBins; ++b) below_[b + 1] = below_[b] + counts[b];
   }
@@ -312,10 +341,12 @@ class Distribution {
     const int k[2] = {rank(q), rank(r)};
     const int b[2] = {bin_of_rank(k[0]), bin_of_rank(k[1])};
     std::vector<float> in_bin[2];
-    for (size_t i = 0; i < size_; ++i) {
-      for (int j = 0; j < 2; ++j)
-        if (bins_[i] == b[j]) in_bin[j].push_back(values_[i]);
-    }
+    for_each_chunk([&](const int* bins, size_t first, size_t count) {
+      for (size_t i = 0; i < count; ++i) {
+        for (int j = 0; j < 2; ++j)
+          if (bins[i] == b[j]) in_bin[j].push_back(values_[first + i]);
+      }
+    });
     double statistic[2];
     for (int j = 0; j < 2; ++j) {
       const auto at = in_bin[j].begin() + (k[j] - below_[b[j]]);
@@ -339,6 +370,18 @@ class Distribution {
   int bin_of_rank(int k) const {
     return static_cast<int>(std::upper_bound(below_.begin(), below_.end(), k) - below_.begin()) - 1;
   }
+  // Calls f(bins, first, count) with the bins of the values first .. first + count - 1, for
+  // all values in chunks (the bins are not kept: the values are passed over once or twice).
+  template <typename F>
+  void for_each_chunk(F f) const {
+    constexpr size_t kChunk = 512;
+    int bins[kChunk];
+    for (size_t first = 0; first < size_; first += kChunk) {
+      const size_t count = std::min(kChunk, size_ - first);
+      bins_of(values_ + first, count, lo_, inverse_width_, kBins - 1, bins);
+      f(bins, first, count);
+    }
+  }
   // x in [lo, hi] where the non-decreasing f reaches target (bisection to well below a bin).
   template <typename F>
   static double solve(F f, double target, double lo, double hi) {
@@ -354,7 +397,6 @@ class Distribution {
   float lo_ = 0.0f;
   double width_ = 1.0;
   float inverse_width_ = 1.0f;
-  std::vector<int> bins_;   // each value's bin
   std::vector<int> below_;  // below_[b]: the values in bins before b
 };
 
@@ -407,12 +449,13 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
   // Linear bar responses per width and channel, along rows and columns, at every second sample
   // (enough to score); a candidate's response is their combination with its weights, the
   // strongest over widths and directions.
+  const std::vector<ChannelSamples> samples = channel_samples(frame);
   std::vector<cv::Mat> responses;  // [width][direction][channel]
   for (double width_px : bar_widths_px) {
     const int bar = std::max(2, static_cast<int>(std::lround(width_px)));
     for (bool horizontal : {true, false}) {
       for (int c = 0; c < channels; ++c)
-        responses.push_back(bar_response_samples(frame, c, bar, horizontal));
+        responses.push_back(bar_response_samples(samples[c], bar, horizontal));
     }
   }
   std::vector<cv::Vec3d> candidates;

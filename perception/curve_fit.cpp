@@ -9,6 +9,7 @@
 #include "common/angles.h"
 #include "common/vector_clones.h"
 #include "perception/autocorrelation.h"
+#include "perception/kth_smallest.h"
 #include "perception/log1p_sum.h"
 
 namespace agv::perception {
@@ -101,11 +102,10 @@ Scored score(const CurveModel& m, Packed* all, double threshold) {
 
 // A robust scale of the inliers' residuals: 1.4826 x their median magnitude (inliers within a
 // generous band still include some far edges of merged chords); for confidence.
-double robust_scale(Scored* s) {
-  if (s->magnitudes.empty()) return 0.0;
-  const auto middle = s->magnitudes.begin() + s->magnitudes.size() / 2;
-  std::nth_element(s->magnitudes.begin(), middle, s->magnitudes.end());
-  return 1.4826 * *middle;
+double robust_scale(const Scored& s, std::vector<double>* scratch) {
+  if (s.magnitudes.empty()) return 0.0;
+  return 1.4826 *
+         kth_smallest(s.magnitudes.data(), s.magnitudes.size(), s.magnitudes.size() / 2, scratch);
 }
 
 // The per-observation part of a pass over n observations (x, y, offset): no sums across them,
@@ -363,6 +363,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
 
   // Refine: curvature free, then kept only if significant.
   Scored scored = score(best, &all, t);
+  std::vector<double> scratch;
   CurveModel model = best;
   Eigen::Matrix3d normal = Eigen::Matrix3d::Identity();
   for (int round = 0; round < 4 && scored.count >= 3; ++round) {
@@ -377,7 +378,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   // off, which pull the curvature at Cauchy weights of that scale. Refine once more on the
   // observations within 4 robust sigmas (at least 0.3 mm) at that scale, when some lie beyond;
   // the inlier set reported stays the wide one.
-  const double fine_m = std::clamp(4.0 * robust_scale(&scored), 0.0003, t);
+  const double fine_m = std::clamp(4.0 * robust_scale(scored, &scratch), 0.0003, t);
   if (fine_m < t) {
     const Scored fine = score(model, &all, fine_m);
     if (fine.count < scored.count && fine.count >= std::max(3, scored.count / 2)) {
@@ -425,7 +426,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   model = oriented(model, centroid, options.forward);
   fit.ok = true;
   fit.model = model;
-  fit.rms_m = robust_scale(&scored);
+  fit.rms_m = robust_scale(scored, &scratch);
   fit.s_min_m = std::numeric_limits<double>::infinity();
   fit.s_max_m = -fit.s_min_m;
   const CurveModel::Prepared prepared = model.prepared();

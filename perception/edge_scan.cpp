@@ -8,8 +8,20 @@
 namespace agv::perception {
 namespace {
 
-// Median of values[first, last), using `scratch` (no allocation once it has grown).
+// Median of values[first, last) (the element a sort puts at the middle), using `scratch` (no
+// allocation once it has grown); a few values (a window's ends) sorted in place on the stack.
 float median_of(const float* first, const float* last, std::vector<float>* scratch) {
+  constexpr std::ptrdiff_t kFew = 16;
+  if (last - first <= kFew) {
+    float sorted[kFew];
+    const std::ptrdiff_t n = last - first;
+    for (std::ptrdiff_t i = 0; i < n; ++i) {  // insertion sort
+      std::ptrdiff_t j = i;
+      for (; j > 0 && sorted[j - 1] > first[i]; --j) sorted[j] = sorted[j - 1];
+      sorted[j] = first[i];
+    }
+    return sorted[n / 2];
+  }
   scratch->assign(first, last);
   const auto middle = scratch->begin() + scratch->size() / 2;
   std::nth_element(scratch->begin(), middle, scratch->end());
@@ -87,10 +99,10 @@ void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int la
 constexpr int kEdgeNear = 4;
 constexpr float kEdgeGap = 1.5f;
 
-// The profile between samples (linear interpolation; clamped to its ends).
+// The profile between samples (linear interpolation; clamped to its ends). Truncation stands in
+// for the floor (a quarter of the cost): they differ only below 0, which the clamp takes to 0.
 float profile_at(const std::vector<float>& profile, float x) {
-  const int k =
-      std::clamp(static_cast<int>(std::floor(x)), 0, static_cast<int>(profile.size()) - 2);
+  const int k = std::clamp(static_cast<int>(x), 0, static_cast<int>(profile.size()) - 2);
   return profile[k] + (x - k) * (profile[k + 1] - profile[k]);
 }
 

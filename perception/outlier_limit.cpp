@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "perception/kth_smallest.h"
+
 namespace agv::perception {
 
 double outlier_limit(const std::vector<double>& magnitudes, double outlier_sigmas) {
@@ -31,9 +33,8 @@ double outlier_limit(const std::vector<double>& magnitudes, const std::vector<do
   }
   double median = 0.0;
   if (weights.empty()) {
-    std::vector<double> sorted = magnitudes;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    median = sorted[sorted.size() / 2];
+    std::vector<double> scratch;
+    median = kth_smallest(magnitudes.data(), magnitudes.size(), magnitudes.size() / 2, &scratch);
   } else {
     // The magnitude at which the weights counted from the smallest first exceed median_rank, by
     // selection: split at the middle, keep the part that holds that rank.

@@ -92,6 +92,15 @@ cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
   return out;
 }
 
+// bar_response's horizontal rows for x in [from, to), where x - offset and x + offset lie in
+// the row.
+AGV_VECTOR_CLONES
+void inner_row(const float* __restrict centre, const float* __restrict flanks, int offset, int from,
+               int to, float* __restrict out) {
+  for (int x = from; x < to; ++x)
+    out[x] = centre[x] - std::max(flanks[x - offset], flanks[x + offset]);
+}
+
 // Bar response along rows (horizontal = true) or columns for a bar `width` samples wide:
 // mean over the bar minus the mean of two flanks of width/2 on each side.
 cv::Mat bar_response(const cv::Mat& s, double width, bool horizontal) {
@@ -107,10 +116,17 @@ cv::Mat bar_response(const cv::Mat& s, double width, bool horizontal) {
     // A bar stands out on both sides: the weaker side bounds the response, so that a single
     // edge (a shadow boundary, the edge of a wide stain) does not look like a bar.
     if (horizontal) {
+      // The flanks clamped into the row near its ends; in between, a loop that vectorises.
       const float* f = flanks.ptr<float>(y);
-      for (int x = 0; x < s.cols; ++x) {
-        out[x] = c[x] - std::max(f[std::max(0, x - offset)], f[std::min(s.cols - 1, x + offset)]);
-      }
+      const int last = s.cols - 1;
+      auto at = [&](int x) {
+        return c[x] - std::max(f[std::max(0, x - offset)], f[std::min(last, x + offset)]);
+      };
+      const int inner_from = std::min(offset, s.cols),
+                inner_to = std::max(inner_from, last - offset);
+      for (int x = 0; x < inner_from; ++x) out[x] = at(x);
+      inner_row(c, f, offset, inner_from, inner_to, out);
+      for (int x = inner_to; x < s.cols; ++x) out[x] = at(x);
     } else {
       const float* before = flanks.ptr<float>(std::max(0, y - offset));
       const float* after = flanks.ptr<float>(std::min(s.rows - 1, y + offset));
