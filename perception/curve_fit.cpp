@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <opencv2/core.hpp>
 
@@ -53,15 +54,18 @@ struct Packed {
 };
 
 // The observations marked in `use` (all without it), packed.
-Packed packed(const std::vector<Observation>& obs, const std::vector<bool>* use = nullptr) {
+Packed packed(const std::vector<Observation>& obs, const std::vector<std::uint8_t>* use = nullptr) {
+  const size_t n = use ? std::count(use->begin(), use->end(), 1) : obs.size();
   Packed out;
+  for (std::vector<double>* v : {&out.x, &out.y, &out.offset, &out.r}) v->resize(n);
+  size_t k = 0;
   for (size_t i = 0; i < obs.size(); ++i) {
     if (use && !(*use)[i]) continue;
-    out.x.push_back(obs[i].p.x());
-    out.y.push_back(obs[i].p.y());
-    out.offset.push_back(obs[i].offset);
+    out.x[k] = obs[i].p.x();
+    out.y[k] = obs[i].p.y();
+    out.offset[k] = obs[i].offset;
+    ++k;
   }
-  out.r.resize(out.x.size());
   return out;
 }
 
@@ -74,7 +78,7 @@ void residuals(const CurveModel::Prepared curve, size_t n, const double* __restr
 }
 
 struct Scored {
-  std::vector<bool> observation_inliers;
+  std::vector<std::uint8_t> observation_inliers;  // 1: within (bytes: vector<bool> costs more)
   int count = 0;           // inlier observations
   double plain_rms = 0.0;  // root mean square: for uncertainties, which the tails belong to
   std::vector<double> magnitudes;  // of the inliers' residuals, in no particular order
@@ -85,13 +89,13 @@ Scored score(const CurveModel& m, Packed* all, double threshold) {
   const size_t n = all->x.size();
   residuals(m.prepared(), n, all->x.data(), all->y.data(), all->offset.data(), all->r.data());
   Scored s;
-  s.observation_inliers.assign(n, false);
+  s.observation_inliers.assign(n, 0);
   s.magnitudes.reserve(n);
   double sum = 0.0;
   for (size_t i = 0; i < n; ++i) {
     const double r = all->r[i];
     if (std::abs(r) > threshold) continue;
-    s.observation_inliers[i] = true;
+    s.observation_inliers[i] = 1;
     ++s.count;
     sum += r * r;
     s.magnitudes.push_back(std::abs(r));
@@ -165,7 +169,7 @@ Linearised linearise(const CurveModel& model, Packed* obs, bool free_curvature, 
 // weighted cost; otherwise the damping grows. Returns the normal matrix at the solution (for the
 // covariance).
 Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& all,
-                       const std::vector<bool>& use, bool free_curvature, double scale) {
+                       const std::vector<std::uint8_t>& use, bool free_curvature, double scale) {
   Packed obs = packed(all, &use);
   Linearised current = linearise(*m, &obs, free_curvature, scale);
   double lambda = 1e-3;
@@ -203,7 +207,7 @@ Eigen::Matrix3d refine(CurveModel* m, const std::vector<Observation>& all,
 // autocorrelation time), summed until it falls below 0.05. Each side of the tape (sign of the
 // distance) is one sequence.
 double correlation_inflation(const CurveModel& m, const std::vector<Observation>& obs,
-                             const std::vector<bool>& use) {
+                             const std::vector<std::uint8_t>& use) {
   const CurveModel::Prepared curve = m.prepared();
   double total_tau = 0.0;
   int sequences = 0;
@@ -321,8 +325,8 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   // the threshold, log(1 - 0.999) / log(1 - w^3) draws would have found an all-inlier sample.
   int needed = options.ransac_iterations;
   const int sampled = (m_obs + stride - 1) / stride;
-  std::vector<bool> in_sample(obs.size(), false);  // the observations hypotheses are scored on
-  for (int k = 0; k < m_obs && !initial; k += stride) in_sample[k] = true;
+  std::vector<std::uint8_t> in_sample(obs.size(), 0);  // the observations hypotheses are scored on
+  for (int k = 0; k < m_obs && !initial; k += stride) in_sample[k] = 1;
   Packed sample = packed(obs, &in_sample);
   if (initial) {
     best = *initial;

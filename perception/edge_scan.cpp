@@ -9,18 +9,19 @@ namespace agv::perception {
 namespace {
 
 // Median of values[first, last) (the element a sort puts at the middle), using `scratch` (no
-// allocation once it has grown); a few values (a window's ends) sorted in place on the stack.
+// allocation once it has grown); of a few values (a window's ends), the one whose rank (values
+// below it, and equal ones before it) is the middle, by comparisons without branches.
 float median_of(const float* first, const float* last, std::vector<float>* scratch) {
   constexpr std::ptrdiff_t kFew = 16;
-  if (last - first <= kFew) {
-    float sorted[kFew];
-    const std::ptrdiff_t n = last - first;
-    for (std::ptrdiff_t i = 0; i < n; ++i) {  // insertion sort
-      std::ptrdiff_t j = i;
-      for (; j > 0 && sorted[j - 1] > first[i]; --j) sorted[j] = sorted[j - 1];
-      sorted[j] = first[i];
+  const std::ptrdiff_t n = last - first;
+  if (n <= kFew) {
+    for (std::ptrdiff_t i = 0; i + 1 < n; ++i) {
+      std::ptrdiff_t rank = 0;
+      for (std::ptrdiff_t j = 0; j < n; ++j)
+        rank += (first[j] < first[i]) | ((j < i) & (first[j] == first[i]));
+      if (rank == n / 2) return first[i];
     }
-    return sorted[n / 2];
+    return first[n - 1];
   }
   scratch->assign(first, last);
   const auto middle = scratch->begin() + scratch->size() / 2;
@@ -43,33 +44,48 @@ void sample_contrast(const unsigned char* first, size_t stride, int count, int c
   }
 }
 
+// Whether any of `count` samples from p, kStep (+1 or -1) apart, is at or above `threshold`:
+// without an early exit, in a loop that vectorises (walk_to_edge's probes past an edge are
+// mostly all below it).
+template <int kStep>
+bool any_at_or_above(const float* p, int count, float threshold) {
+  bool any = false;
+  for (int k = 0; k < count; ++k) any |= p[k * kStep] >= threshold;
+  return any;
+}
+
+// walk_to_edge (below) in direction kStep.
+template <int kStep>
+int walk_to_edge_towards(const std::vector<float>& profile, int start, float threshold,
+                         int max_dip) {
+  const int n = static_cast<int>(profile.size());
+  const float* p = profile.data();
+  int i = start;
+  while (true) {
+    const int next = i + kStep;
+    if (next < 0 || next >= n) return i;
+    if (p[next] >= threshold) {
+      i = next;
+      continue;
+    }
+    // Below threshold: a dip if the tape comes back within max_dip samples (probes i + k kStep,
+    // k = 2 .. max_dip + 1, within the profile).
+    const int last_k = std::min(max_dip + 1, kStep > 0 ? n - 1 - i : i);
+    if (last_k < 2 || !any_at_or_above<kStep>(p + i + 2 * kStep, last_k - 1, threshold))
+      return next;
+    int k = 2;
+    while (p[i + k * kStep] < threshold) ++k;
+    i += k * kStep;
+  }
+}
+
 // From `start` (on the tape), steps in direction `step` while the profile stays at or above
 // `threshold`, crossing dips below it that are at most max_dip samples long (worn spots);
 // returns the first sample beyond the tape's edge (or the profile's end).
 int walk_to_edge(const std::vector<float>& profile, int start, int step, float threshold,
                  int max_dip) {
-  const int n = static_cast<int>(profile.size());
-  int i = start;
-  while (true) {
-    const int next = i + step;
-    if (next < 0 || next >= n) return i;
-    if (profile[next] >= threshold) {
-      i = next;
-      continue;
-    }
-    // Below threshold: a dip if the tape comes back within max_dip samples.
-    int back = -1;
-    for (int k = 2; k <= max_dip + 1; ++k) {
-      const int probe = i + k * step;
-      if (probe < 0 || probe >= n) break;
-      if (profile[probe] >= threshold) {
-        back = probe;
-        break;
-      }
-    }
-    if (back < 0) return next;
-    i = back;
-  }
+  return step > 0 ? walk_to_edge_towards<1>(profile, start, threshold, max_dip)
+                  : walk_to_edge_towards<-1>(profile, start, threshold, max_dip);
 }
 
 struct Run {
