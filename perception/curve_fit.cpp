@@ -220,7 +220,12 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
       by_position.emplace_back(curve.arc_position(obs[i].p), residual(curve, obs[i]));
     }
     if (by_position.size() < 8) continue;
-    std::sort(by_position.begin(), by_position.end());
+    // Chords come in scan order, mostly in order along the curve already (or against it).
+    if (std::is_sorted(by_position.rbegin(), by_position.rend())) {
+      std::reverse(by_position.begin(), by_position.end());
+    } else if (!std::is_sorted(by_position.begin(), by_position.end())) {
+      std::sort(by_position.begin(), by_position.end());
+    }
     std::vector<double> residuals;
     for (const auto& [s, r] : by_position) residuals.push_back(r);
     total_tau += integrated_autocorrelation_time(residuals);
