@@ -212,12 +212,12 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
   double total_tau = 0.0;
   int sequences = 0;
   for (int side : {-1, 0, 1}) {
-    std::vector<std::pair<double, double>> by_position;  // (arc position, residual)
+    std::vector<std::pair<double, double>> by_position;  // (arc order key, residual)
     for (size_t i = 0; i < obs.size(); ++i) {
       if (!use[i]) continue;
       const int obs_side = obs[i].offset == 0.0 ? 0 : (obs[i].offset > 0.0 ? 1 : -1);
       if (obs_side != side) continue;
-      by_position.emplace_back(curve.arc_position(obs[i].p), residual(curve, obs[i]));
+      by_position.emplace_back(curve.arc_order_key(obs[i].p), residual(curve, obs[i]));
     }
     if (by_position.size() < 8) continue;
     // Chords come in scan order, mostly in order along the curve already (or against it).

@@ -56,6 +56,21 @@ struct CurveModel {
       const double swept = std::atan2(k * along, 1.0 - k * across);
       return swept / k;
     }
+    // A key that orders points as arc_position does, at a fraction of its cost (no arc
+    // tangent): for an arc, the pseudo-angle of the same (y, x) = (k along, 1 - k across),
+    // increasing with atan2(y, x) over (-pi, pi] (the side of y's sign as atan2 takes it),
+    // divided by k. For sorting by arc position.
+    double arc_order_key(const Eigen::Vector2d& p) const {
+      const Eigen::Vector2d q = p - foot;
+      const double along = q.dot(tangent);
+      const double k = curvature_1_m;
+      if (std::abs(k) < 1e-9) return along;
+      const double y = k * along, x = 1.0 - k * q.dot(normal);
+      const double r = std::abs(x) + std::abs(y);
+      if (r == 0.0) return 0.0;
+      const double pseudo = x >= 0.0 ? y / r : (std::signbit(y) ? -2.0 : 2.0) - y / r;
+      return pseudo / k;
+    }
     double signed_distance(double px, double py) const {
       const double qx = px - foot.x(), qy = py - foot.y();
       const double u = qx * normal.x() + qy * normal.y();

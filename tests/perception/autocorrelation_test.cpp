@@ -27,5 +27,42 @@ TEST(Autocorrelation, RunsOfSharedErrorsCountAsOne) {
   EXPECT_DOUBLE_EQ(integrated_autocorrelation_time({2.0, 2.0, 2.0}), 1.0);  // no variance
 }
 
+// The definition, one lag at a time, as a plain reference.
+double one_lag_at_a_time(const std::vector<double>& values) {
+  const size_t n = values.size();
+  double mean = 0.0, variance = 0.0;
+  for (double v : values) mean += v;
+  mean /= n;
+  for (double v : values) variance += (v - mean) * (v - mean);
+  double tau = 1.0;
+  for (size_t lag = 1; lag < n / 4; ++lag) {
+    double sum = 0.0;
+    for (size_t i = 0; i + lag < n; ++i) sum += (values[i] - mean) * (values[i + lag] - mean);
+    if (sum / variance < 0.05) break;
+    tau += 2.0 * sum / variance;
+  }
+  return tau;
+}
+
+// Lags taken four at a time give the same sum, to the last bit: short sequences (fewer lags than
+// four, tails shorter than a group), the cut at any lag (runs of 1-40), and a time that runs to
+// the quarter of the length (a slow drift).
+TEST(Autocorrelation, IsTheDefinitionToTheLastBit) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (int n : {8, 9, 13, 40, 97, 480}) {
+    for (int run : {1, 3, 7, 40, 1000}) {
+      std::vector<double> values;
+      double shared = 0.0;
+      for (int i = 0; i < n; ++i) {
+        if (i % run == 0) shared = noise(rng);
+        values.push_back(run == 1000 ? 0.01 * i + 0.001 * noise(rng) : shared + 0.1 * noise(rng));
+      }
+      EXPECT_EQ(integrated_autocorrelation_time(values), one_lag_at_a_time(values))
+          << n << " values, runs of " << run;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace agv::perception

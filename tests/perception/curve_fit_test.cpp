@@ -66,6 +66,31 @@ TEST(CurveModel, TangentAtTurnsWithTheCurvature) {
   }
 }
 
+// The order key sorts points as the arc position does: pairs of points on arcs of both turns
+// (tight ones: R 0.1 m, where points half way round lie beyond the quarter turn a projection
+// would stay monotonic over), a near-line and a line, near the curve and off it, all round the
+// circle (the arc position's cut opposite the foot point included).
+TEST(CurveModel, ArcOrderKeySortsAsTheArcPosition) {
+  cv::RNG rng(17);
+  for (const CurveModel& m :
+       {CurveModel{0.01, 0.3, 10.0}, CurveModel{-0.02, -1.0, -10.0}, CurveModel{0.0, 2.0, 1.5},
+        CurveModel{0.003, 0.2, 1e-10}, CurveModel{0.003, 0.2, 0.0}}) {
+    const CurveModel::Prepared curve = m.prepared();
+    const double radius = std::abs(m.curvature_1_m) > 1e-9 ? 1.0 / std::abs(m.curvature_1_m) : 1.0;
+    for (int pair = 0; pair < 2000; ++pair) {
+      Eigen::Vector2d p[2];
+      for (Eigen::Vector2d& q : p) {
+        const double s = rng.uniform(-3.0, 3.0) * radius, off = rng.uniform(-0.5, 0.5) * radius;
+        q = m.point_at(s) + off * Eigen::Vector2d(-m.tangent_at(s).y(), m.tangent_at(s).x());
+      }
+      const double a0 = curve.arc_position(p[0]), a1 = curve.arc_position(p[1]);
+      if (std::abs(a0 - a1) < 1e-9) continue;
+      EXPECT_EQ(curve.arc_order_key(p[0]) < curve.arc_order_key(p[1]), a0 < a1)
+          << "curvature " << m.curvature_1_m << ", arc positions " << a0 << ", " << a1;
+    }
+  }
+}
+
 TEST(CurveModel, ReversedIsTheSameCurve) {
   const CurveModel m{0.004, 0.1, 1.5};
   const CurveModel r = m.reversed();
