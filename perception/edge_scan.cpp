@@ -92,13 +92,13 @@ struct Run {
   int lo, hi;  // downsampled coordinates along the scan line, inclusive
 };
 
-// Runs of `label` on one downsampled scan line; gaps of one sample are bridged.
-void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int label,
-                  std::vector<Run>* runs) {
+// Runs of `label` on one downsampled scan line, within [from, to) along it (the label's box:
+// there are none beyond); gaps of one sample are bridged.
+void runs_on_line(const cv::Mat& labels, int small_line, bool along_rows, int label, int from,
+                  int to, std::vector<Run>* runs) {
   runs->clear();
-  const int count = along_rows ? labels.cols : labels.rows;
   int start = -1, last = -10;
-  for (int i = 0; i < count; ++i) {
+  for (int i = from; i < to; ++i) {
     const int value = along_rows ? labels.at<int>(small_line, i) : labels.at<int>(i, small_line);
     if (value != label) continue;
     if (i - last > 2) {
@@ -304,7 +304,8 @@ std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& 
   for (int line = first_line; line <= last_line; line += options.step) {
     const int small_line = std::min(line / ds, small_lines - 1);
     if (small_line != runs_small_line) {
-      runs_on_line(labels, small_line, along_rows, region.label, &runs);
+      runs_on_line(labels, small_line, along_rows, region.label, along_rows ? box.x : box.y,
+                   along_rows ? box.br().x : box.br().y, &runs);
       runs_small_line = small_line;
     }
     for (const Run& run : runs) {

@@ -59,18 +59,10 @@ cv::Mat contrast_of(const cv::Mat& frame, const ContrastAxis& axis) {
   return contrast;
 }
 
-// Mean over `width` samples centred on each sample, along rows (horizontal) or columns, with
-// the edge samples repeated beyond the border; running sums (in double, in the order of the
-// samples), O(1) per sample. The sums of all columns run together, row by row; along rows, on
-// the transposed samples (one running sum at a time waits for each addition before the next).
-cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
-  if (horizontal) {
-    cv::Mat transposed;
-    cv::transpose(s, transposed);
-    cv::Mat out;
-    cv::transpose(box_mean(transposed, width, false), out);
-    return out;
-  }
+// Mean over `width` samples centred on each sample down the columns, with the edge samples
+// repeated beyond the border; running sums (in double, in the order of the samples), O(1) per
+// sample; the sums of all columns run together, row by row.
+cv::Mat box_mean_down_columns(const cv::Mat& s, int width) {
   cv::Mat out(s.size(), CV_32F);
   const int n = s.rows, before = (width - 1) / 2, after = width - 1 - before;
   const double inverse_width = 1.0 / width;
@@ -92,46 +84,23 @@ cv::Mat box_mean(const cv::Mat& s, int width, bool horizontal) {
   return out;
 }
 
-// bar_response's horizontal rows for x in [from, to), where x - offset and x + offset lie in
-// the row.
-AGV_VECTOR_CLONES
-void inner_row(const float* __restrict centre, const float* __restrict flanks, int offset, int from,
-               int to, float* __restrict out) {
-  for (int x = from; x < to; ++x)
-    out[x] = centre[x] - std::max(flanks[x - offset], flanks[x + offset]);
-}
-
-// Bar response along rows (horizontal = true) or columns for a bar `width` samples wide:
-// mean over the bar minus the mean of two flanks of width/2 on each side.
-cv::Mat bar_response(const cv::Mat& s, double width, bool horizontal) {
+// Bar response down the columns for a bar `width` samples wide: mean over the bar minus the
+// mean of two flanks of width/2 on each side. A bar stands out on both sides: the weaker side
+// bounds the response, so that a single edge (a shadow boundary, the edge of a wide stain) does
+// not look like a bar. Along rows: the same down the columns of the transpose.
+cv::Mat bar_response_down_columns(const cv::Mat& s, double width) {
   const int bar = std::max(1, static_cast<int>(std::lround(width)));
   const int flank = std::max(1, static_cast<int>(std::lround(width / 2.0)));
   const int offset = (bar + flank + 1) / 2;  // centre of a flank from the centre of the bar
-  const cv::Mat centre = box_mean(s, bar, horizontal);
-  const cv::Mat flanks = box_mean(s, flank, horizontal);
+  const cv::Mat centre = box_mean_down_columns(s, bar);
+  const cv::Mat flanks = box_mean_down_columns(s, flank);
   cv::Mat response(s.size(), CV_32F);
   for (int y = 0; y < s.rows; ++y) {
     float* out = response.ptr<float>(y);
     const float* c = centre.ptr<float>(y);
-    // A bar stands out on both sides: the weaker side bounds the response, so that a single
-    // edge (a shadow boundary, the edge of a wide stain) does not look like a bar.
-    if (horizontal) {
-      // The flanks clamped into the row near its ends; in between, a loop that vectorises.
-      const float* f = flanks.ptr<float>(y);
-      const int last = s.cols - 1;
-      auto at = [&](int x) {
-        return c[x] - std::max(f[std::max(0, x - offset)], f[std::min(last, x + offset)]);
-      };
-      const int inner_from = std::min(offset, s.cols),
-                inner_to = std::max(inner_from, last - offset);
-      for (int x = 0; x < inner_from; ++x) out[x] = at(x);
-      inner_row(c, f, offset, inner_from, inner_to, out);
-      for (int x = inner_to; x < s.cols; ++x) out[x] = at(x);
-    } else {
-      const float* before = flanks.ptr<float>(std::max(0, y - offset));
-      const float* after = flanks.ptr<float>(std::min(s.rows - 1, y + offset));
-      for (int x = 0; x < s.cols; ++x) out[x] = c[x] - std::max(before[x], after[x]);
-    }
+    const float* before = flanks.ptr<float>(std::max(0, y - offset));
+    const float* after = flanks.ptr<float>(std::min(s.rows - 1, y + offset));
+    for (int x = 0; x < s.cols; ++x) out[x] = c[x] - std::max(before[x], after[x]);
   }
   return response;
 }
@@ -148,9 +117,12 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
   bar = bar_widths_small_px.empty()
             ? result.contrast_small.clone()
             : cv::Mat(result.contrast_small.size(), CV_32F, cv::Scalar(-1e9f));
+  cv::Mat transposed, along_rows;
+  if (!bar_widths_small_px.empty()) cv::transpose(result.contrast_small, transposed);
   for (double width : bar_widths_small_px) {
-    bar = cv::max(bar, bar_response(result.contrast_small, width, true));
-    bar = cv::max(bar, bar_response(result.contrast_small, width, false));
+    cv::transpose(bar_response_down_columns(transposed, width), along_rows);
+    bar = cv::max(bar, along_rows);
+    bar = cv::max(bar, bar_response_down_columns(result.contrast_small, width));
   }
   const cv::Mat& s = result.bar_small;
 
