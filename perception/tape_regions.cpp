@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <opencv2/imgproc.hpp>
 
 #include "common/bin_counts.h"
@@ -84,16 +85,34 @@ cv::Mat box_mean_down_columns(const cv::Mat& s, int width) {
   return out;
 }
 
+// box_mean_down_columns of one image by width, each worked out once (on a ladder of bar widths
+// in steps of 2x, one bar's flanks are the next narrower bar).
+class BoxMeans {
+ public:
+  explicit BoxMeans(const cv::Mat& s) : s_(s) {}
+  const cv::Mat& image() const { return s_; }
+  const cv::Mat& of(int width) {
+    auto at = means_.find(width);
+    if (at == means_.end()) at = means_.emplace(width, box_mean_down_columns(s_, width)).first;
+    return at->second;
+  }
+
+ private:
+  const cv::Mat& s_;
+  std::map<int, cv::Mat> means_;
+};
+
 // Bar response down the columns for a bar `width` samples wide: mean over the bar minus the
 // mean of two flanks of width/2 on each side. A bar stands out on both sides: the weaker side
 // bounds the response, so that a single edge (a shadow boundary, the edge of a wide stain) does
 // not look like a bar. Along rows: the same down the columns of the transpose.
-cv::Mat bar_response_down_columns(const cv::Mat& s, double width) {
+cv::Mat bar_response_down_columns(BoxMeans* means, double width) {
+  const cv::Mat& s = means->image();
   const int bar = std::max(1, static_cast<int>(std::lround(width)));
   const int flank = std::max(1, static_cast<int>(std::lround(width / 2.0)));
   const int offset = (bar + flank + 1) / 2;  // centre of a flank from the centre of the bar
-  const cv::Mat centre = box_mean_down_columns(s, bar);
-  const cv::Mat flanks = box_mean_down_columns(s, flank);
+  const cv::Mat& centre = means->of(bar);
+  const cv::Mat& flanks = means->of(flank);
   cv::Mat response(s.size(), CV_32F);
   for (int y = 0; y < s.rows; ++y) {
     float* out = response.ptr<float>(y);
@@ -119,10 +138,11 @@ TapeRegions find_tape_regions(const cv::Mat& small_frame, const ContrastAxis& ax
             : cv::Mat(result.contrast_small.size(), CV_32F, cv::Scalar(-1e9f));
   cv::Mat transposed, along_rows;
   if (!bar_widths_small_px.empty()) cv::transpose(result.contrast_small, transposed);
+  BoxMeans means_down_columns(result.contrast_small), means_along_rows(transposed);
   for (double width : bar_widths_small_px) {
-    cv::transpose(bar_response_down_columns(transposed, width), along_rows);
+    cv::transpose(bar_response_down_columns(&means_along_rows, width), along_rows);
     bar = cv::max(bar, along_rows);
-    bar = cv::max(bar, bar_response_down_columns(result.contrast_small, width));
+    bar = cv::max(bar, bar_response_down_columns(&means_down_columns, width));
   }
   const cv::Mat& s = result.bar_small;
 
