@@ -45,8 +45,8 @@ void sample_contrast(const unsigned char* first, size_t stride, int count, int c
 }
 
 // Whether any of `count` samples from p, kStep (+1 or -1) apart, is at or above `threshold`:
-// without an early exit, in a loop that vectorises (walk_to_edge's probes past an edge are
-// mostly all below it).
+// without an early exit, so without a branch to mispredict (walk_to_edge's probes past an edge
+// are mostly all below it, and an exit where one is not cost more than the probes).
 template <int kStep>
 bool any_at_or_above(const float* p, int count, float threshold) {
   bool any = false;
