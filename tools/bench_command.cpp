@@ -115,63 +115,74 @@ int run_bench(const BenchArgs& args) {
       });
   const double closed_loop_fps = run.rows.size() / std::max(1e-9, run.wall_s - run.setup_wall_s);
 
-  // Each frame measured four ways: perception as the loop runs it (tracking between searches,
-  // then the path memory on the frame's wheel odometry, when the scenario has one), the line
-  // estimator alone (tracking between searches), the full search alone, and the Canny +
-  // HoughLinesP baseline; and one control step.
+  // The closed loop as lockstep runs it: render, perceive (tracking between full searches, then
+  // the path memory on the frame's wheel odometry, when the scenario has one), control, and
+  // nothing else between two steps (the comparisons below run between them left each step's
+  // caches colder than the loop leaves them). Then the same frames, rendered again, measured apart:
+  // the line estimator alone (tracking between searches), the path memory alone on its
+  // detections and the frames' wheel odometry (what the loop adds to the line estimator; timed
+  // only where the scenario has odometry), the full search alone, and the Canny + HoughLinesP
+  // baseline. The two alternate in blocks of kBlockFrames frames, so that a change in the
+  // machine's speed during the run (other programs on it) moves both alike.
+  constexpr size_t kBlockFrames = 10;
   perception::LineEstimator::Options options = pipeline::perception_options(scenario);
   options.tracking = true;
   pipeline::ImagePerceiver loop_perception(camera, options, scenario.perception_path_memory);
+  control::LineTracker tracker = pipeline::make_tracker(scenario, scenario.controller.ts_s);
   perception::TrackingLineEstimator tracking(camera, options);
   const perception::LineEstimator full_search(camera, options);
   const perception::HoughBaseline baseline(camera, options.tape.width_m);
-  // The path memory alone, on the line estimator's detections and the frames' wheel odometry
-  // (what the loop adds to the line estimator; timed only where the scenario has odometry).
   perception::PathMemory memory;
   std::vector<double> memory_points;
-  control::LineTracker tracker = pipeline::make_tracker(scenario, scenario.controller.ts_s);
   StageRecord perceived, tracked, remembered, searched, hough;
   std::vector<double> render_us, control_us, step_us;
   cv::Mat frame;
   ProgressBar bar("timing " + std::to_string(poses.size()) + " frames", !args.quiet && !args.json);
-  for (size_t i = 0; i < poses.size(); ++i) {
-    bar.update(static_cast<double>(i) / poses.size());
-    const double t = i * pipeline::camera_period_s(scenario);
-    const Clock::time_point t0 = Clock::now();
-    renderer->render_into(poses[i], twists[i], static_cast<std::uint64_t>(i), &frame);
-    const Clock::time_point t1 = Clock::now();
-    pipeline::SourceFrame source_frame;
-    source_frame.index = i;
-    source_frame.t_s = t;
-    source_frame.image = frame;
-    source_frame.pose = poses[i];
-    source_frame.twist = twists[i];
-    source_frame.odometry = odometry[i];
-    const LineMeasurement m = loop_perception.measure(source_frame, nullptr);
-    const Clock::time_point t2 = Clock::now();
-    perception::LineDetection detection;
-    const LineMeasurement m_tracked = tracking.measure(frame, t, &detection);
-    const Clock::time_point t2m = Clock::now();
-    if (scenario.perception_path_memory && odometry[i]) {
-      const LineMeasurement m_memory = memory.update(m_tracked, detection, odometry[i]);
-      remembered.add(microseconds(t2m, Clock::now()), m_memory, truths[i]);
-      memory_points.push_back(static_cast<double>(memory.size()));
+  const auto frame_time_s = [&](size_t i) { return i * pipeline::camera_period_s(scenario); };
+  for (size_t block = 0; block < poses.size(); block += kBlockFrames) {
+    bar.update(static_cast<double>(block) / poses.size());
+    const size_t end = std::min(poses.size(), block + kBlockFrames);
+    for (size_t i = block; i < end; ++i) {
+      const Clock::time_point t0 = Clock::now();
+      renderer->render_into(poses[i], twists[i], static_cast<std::uint64_t>(i), &frame);
+      const Clock::time_point t1 = Clock::now();
+      pipeline::SourceFrame source_frame;
+      source_frame.index = i;
+      source_frame.t_s = frame_time_s(i);
+      source_frame.image = frame;
+      source_frame.pose = poses[i];
+      source_frame.twist = twists[i];
+      source_frame.odometry = odometry[i];
+      const LineMeasurement m = loop_perception.measure(source_frame, nullptr);
+      const Clock::time_point t2 = Clock::now();
+      tracker.step(m, frame_time_s(i));
+      const Clock::time_point t3 = Clock::now();
+      render_us.push_back(microseconds(t0, t1));
+      perceived.add(microseconds(t1, t2), m, truths[i]);
+      control_us.push_back(microseconds(t2, t3));
+      step_us.push_back(microseconds(t0, t3));
     }
-    const Clock::time_point t3 = Clock::now();
-    const LineMeasurement m_full = full_search.estimate(frame, t);
-    const Clock::time_point t4 = Clock::now();
-    const LineMeasurement m_hough = baseline.estimate(frame, t);
-    const Clock::time_point t5 = Clock::now();
-    tracker.step(m, t);
-    const Clock::time_point t6 = Clock::now();
-    render_us.push_back(microseconds(t0, t1));
-    perceived.add(microseconds(t1, t2), m, truths[i]);
-    tracked.add(microseconds(t2, t2m), m_tracked, truths[i]);
-    searched.add(microseconds(t3, t4), m_full, truths[i]);
-    hough.add(microseconds(t4, t5), m_hough, truths[i]);
-    control_us.push_back(microseconds(t5, t6));
-    // One closed-loop step as lockstep runs it: render, perceive as the loop does, control.
-    step_us.push_back(microseconds(t0, t2) + microseconds(t5, t6));
+    for (size_t i = block; i < end; ++i) {
+      const double t = frame_time_s(i);
+      renderer->render_into(poses[i], twists[i], static_cast<std::uint64_t>(i), &frame);
+      const Clock::time_point t0 = Clock::now();
+      perception::LineDetection detection;
+      const LineMeasurement m_tracked = tracking.measure(frame, t, &detection);
+      const Clock::time_point t1 = Clock::now();
+      if (scenario.perception_path_memory && odometry[i]) {
+        const LineMeasurement m_memory = memory.update(m_tracked, detection, odometry[i]);
+        remembered.add(microseconds(t1, Clock::now()), m_memory, truths[i]);
+        memory_points.push_back(static_cast<double>(memory.size()));
+      }
+      const Clock::time_point t2 = Clock::now();
+      const LineMeasurement m_full = full_search.estimate(frame, t);
+      const Clock::time_point t3 = Clock::now();
+      const LineMeasurement m_hough = baseline.estimate(frame, t);
+      const Clock::time_point t4 = Clock::now();
+      tracked.add(microseconds(t0, t1), m_tracked, truths[i]);
+      searched.add(microseconds(t2, t3), m_full, truths[i]);
+      hough.add(microseconds(t3, t4), m_hough, truths[i]);
+    }
   }
   bar.finish();
   const int frames = static_cast<int>(poses.size());
