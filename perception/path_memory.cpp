@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <optional>
 
 #include "common/angles.h"
@@ -24,10 +25,12 @@ namespace {
 // few points to fit the bend itself).
 class EvidenceIndex {
  public:
+  // Set when first asked for (course_at), not before: most evidence points are nobody's
+  // nearest.
   struct LocalCourse {
-    bool valid = false;  // 3 or more points in the neighbourhood
+    bool valid;  // 3 or more points in the neighbourhood
     Eigen::Vector2d mean, tangent, normal;
-    Eigen::Vector3d n_of_t = Eigen::Vector3d::Zero();  // (a, b, c)
+    Eigen::Vector3d n_of_t;  // (a, b, c)
 
     // The signed distance of p from the course along its normal, and its gradient in p.
     double distance(const Eigen::Vector2d& p, Eigen::Vector2d* gradient) const {
@@ -46,19 +49,22 @@ class EvidenceIndex {
         grid_(evidence, neighbourhood_m),
         fine_grid_(evidence,
                    PointGrid::dense_cell_m(evidence, 0.25 * neighbourhood_m, neighbourhood_m)),
-        courses_(evidence.size()),
+        courses_(new LocalCourse[evidence.size()]),
         computed_(evidence.size(), false),
         in_neighbourhood_(evidence.size(), false) {}
 
   // The index of the evidence point nearest to p (the lowest index among equals), if it lies
-  // within the neighbourhood.
-  std::optional<size_t> nearest(const Eigen::Vector2d& p) const {
-    return fine_grid_.nearest(evidence_, p, neighbourhood_m_);
+  // within the neighbourhood; else PointGrid::kNone.
+  size_t nearest(const Eigen::Vector2d& p) const {
+    return fine_grid_.nearest_index(evidence_, p, neighbourhood_m_);
   }
 
   const LocalCourse& course_at(size_t j) {
-    if (computed_[j]) return courses_[j];
+    LocalCourse& course = courses_[j];
+    if (computed_[j]) return course;
     computed_[j] = true;
+    course.valid = false;
+    course.n_of_t.setZero();
     // The neighbourhood in the evidence's order (the sums below in that order): marked, then
     // read off between the lowest and highest index marked (neighbours along the tape are
     // neighbours in the scan).
@@ -76,18 +82,24 @@ class EvidenceIndex {
       in_neighbourhood_[k] = false;
       near.push_back(k);
     }
-    if (near.size() < 3) return courses_[j];
+    if (near.size() < 3) return course;
+    // The sums one by one (the same sums as Eigen's outer products, which went through memory
+    // in halves and were read back whole: a stall per point).
     Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-    Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+    double sxx = 0.0, sxy = 0.0, syy = 0.0;
     for (size_t k : near) {
-      mean += evidence_[k];
-      scatter += evidence_[k] * evidence_[k].transpose();
+      const Eigen::Vector2d& e = evidence_[k];
+      mean += e;
+      sxx += e.x() * e.x();
+      sxy += e.x() * e.y();
+      syy += e.y() * e.y();
     }
+    Eigen::Matrix2d scatter;
+    scatter << sxx, sxy, sxy, syy;
     mean /= static_cast<double>(near.size());
     scatter = scatter / static_cast<double>(near.size()) - mean * mean.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen;
     eigen.computeDirect(scatter);
-    LocalCourse& course = courses_[j];
     course.valid = true;
     course.mean = mean;
     course.normal = eigen.eigenvectors().col(0);  // least spread: across the tape
@@ -97,15 +109,20 @@ class EvidenceIndex {
     // towards -normal. Then the offset and slope that fit the points with that bend.
     const double along = course.tangent.dot(line_.tangent_at(prepared_line_.arc_position(mean)));
     course.n_of_t[2] = -0.5 * line_.curvature_1_m * (along >= 0.0 ? 1.0 : -1.0);
-    Eigen::Matrix2d ata = Eigen::Matrix2d::Zero();
-    Eigen::Vector2d aty = Eigen::Vector2d::Zero();
+    // Least squares for (a, b) with rows (1, t): the normal equations' sums one by one.
+    double st = 0.0, stt = 0.0, sn = 0.0, stn = 0.0;
     for (size_t k : near) {
       const Eigen::Vector2d q = evidence_[k] - mean;
       const double t = course.tangent.dot(q);
-      const Eigen::Vector2d row(1.0, t);
-      ata += row * row.transpose();
-      aty += row * (course.normal.dot(q) - course.n_of_t[2] * t * t);
+      const double n = course.normal.dot(q) - course.n_of_t[2] * t * t;
+      st += t;
+      stt += t * t;
+      sn += n;
+      stn += t * n;
     }
+    Eigen::Matrix2d ata;
+    ata << static_cast<double>(near.size()), st, st, stt;
+    const Eigen::Vector2d aty(sn, stn);
     const Eigen::LDLT<Eigen::Matrix2d> ldlt(ata);
     if (ldlt.info() == Eigen::Success && ldlt.rcond() > 1e-9)
       course.n_of_t.head<2>() = ldlt.solve(aty);
@@ -122,7 +139,7 @@ class EvidenceIndex {
   // spread allows a dense grid (a full search's 480 points 0.4 mm apart hold 20 a cell of the
   // neighbourhood's size, which every remembered point would look at).
   PointGrid fine_grid_;
-  std::vector<LocalCourse> courses_;
+  std::unique_ptr<LocalCourse[]> courses_;
   std::vector<bool> computed_;
   // Scratch for the neighbourhood of the course being worked out (all false between uses).
   std::vector<bool> in_neighbourhood_;
@@ -266,10 +283,10 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   EvidenceIndex index(evidence, line, options_.neighbourhood_m);
   for (size_t i = 0; i < in_vehicle->size(); ++i) {
     const Eigen::Vector2d& p = (*in_vehicle)[i];
-    const std::optional<size_t> nearest = index.nearest(p);
-    if (!nearest) continue;
+    const size_t nearest = index.nearest(p);
+    if (nearest == PointGrid::kNone) continue;
     // The local direction of the evidence: its points within the neighbourhood of the nearest.
-    const EvidenceIndex::LocalCourse& course = index.course_at(*nearest);
+    const EvidenceIndex::LocalCourse& course = index.course_at(nearest);
     if (!course.valid) continue;
     Eigen::Vector2d normal;
     const double d = course.distance(p, &normal);
@@ -901,14 +918,14 @@ void PathMemory::add_evidence(const std::vector<Eigen::Vector2d>& evidence,
   const PointGrid grid(remembered,
                        PointGrid::dense_cell_m(remembered, std::max(options_.fuse_m, 1e-3), 0.0));
   for (const Eigen::Vector2d& centre : evidence) {
-    const std::optional<size_t> nearest = grid.nearest(*in_vehicle, centre, options_.fuse_m);
-    if (!nearest) {
+    const size_t nearest = grid.nearest_index(*in_vehicle, centre, options_.fuse_m);
+    if (nearest == PointGrid::kNone) {
       points_.push_back({to_memory(centre), frame_, odometer_m_});
       in_vehicle->push_back(centre);
       continue;
     }
-    Point& point = points_[*nearest];
-    Eigen::Vector2d& p = (*in_vehicle)[*nearest];
+    Point& point = points_[nearest];
+    Eigen::Vector2d& p = (*in_vehicle)[nearest];
     const double n = point.observations;
     p = (n * p + centre) / (n + 1.0);
     point.p = to_memory(p);

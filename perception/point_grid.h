@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -17,34 +18,37 @@ class PointGrid {
   PointGrid(const std::vector<Eigen::Vector2d>& points, double cell_m) : cell_m_(cell_m) {
     if (points.empty()) return;
     // A counting sort into the cells of the points' bounding box (a few hundred cells for the
-    // tape in and near the view).
-    long long x0 = std::numeric_limits<long long>::max(), y0 = x0, x1 = -x0, y1 = -x0;
-    std::vector<std::pair<long long, long long>> cells(points.size());
-    for (size_t j = 0; j < points.size(); ++j) {
-      cells[j] = cell(points[j]);
-      x0 = std::min(x0, cells[j].first);
-      x1 = std::max(x1, cells[j].first);
-      y0 = std::min(y0, cells[j].second);
-      y1 = std::max(y1, cells[j].second);
+    // tape in and near the view). The cell of a coordinate never decreases as it grows, so the
+    // box's corner cells are the cells of the points' least and greatest coordinates.
+    Eigen::Vector2d lo = points.front(), hi = lo;
+    for (const Eigen::Vector2d& p : points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
     }
+    const auto [x0, y0] = cell(lo);
+    const auto [x1, y1] = cell(hi);
     x0_ = x0;
     y0_ = y0;
     columns_ = x1 - x0 + 1;
     rows_ = y1 - y0 + 1;
-    if (columns_ > 4096 || rows_ > 4096 ||
+    if (points.size() >= kNone32 || columns_ > 4096 || rows_ > 4096 ||
         columns_ * rows_ > static_cast<long long>(max_cells(points.size()))) {
       columns_ = rows_ = 0;  // too spread out for a dense grid: none (every lookup scans all)
       all_.resize(points.size());
       for (size_t j = 0; j < points.size(); ++j) all_[j] = j;
       return;
     }
-    start_.assign(columns_ * rows_ + 1, 0);
-    for (const auto& [cx, cy] : cells) ++start_[slot(cx, cy) + 1];
-    for (size_t k = 1; k < start_.size(); ++k) start_[k] += start_[k - 1];
+    // Counted into each cell's slot, summed so that start_[k] is where cell k ends, then each
+    // point placed in front of its cell's end, the last point first: start_[k] ends where cell
+    // k begins, and each cell lists its points in index order.
+    const size_t cells = static_cast<size_t>(columns_ * rows_);
+    start_.assign(cells + 1, 0);
+    for (const Eigen::Vector2d& p : points) ++start_[slot(p)];
+    for (size_t k = 1; k < cells; ++k) start_[k] += start_[k - 1];
+    start_[cells] = static_cast<std::uint32_t>(points.size());
     indices_.resize(points.size());
-    std::vector<size_t> next(start_.begin(), start_.end() - 1);
-    for (size_t j = 0; j < points.size(); ++j)
-      indices_[next[slot(cells[j].first, cells[j].second)]++] = j;
+    for (size_t j = points.size(); j-- > 0;)
+      indices_[--start_[slot(points[j])]] = static_cast<std::uint32_t>(j);
   }
 
   // The most cells of a dense grid for this many points (else every lookup scans them all).
@@ -65,16 +69,27 @@ class PointGrid {
                     1.1 * std::sqrt((size.x() + margin_m) * (size.y() + margin_m) / cells));
   }
 
+  // What nearest_index returns where no point lies within the radius.
+  static constexpr size_t kNone = std::numeric_limits<size_t>::max();
+
   // The index of the point nearest to p within radius_m (the lowest index among equals), if
   // any: the cells in rings of growing distance around p's, until the rings left lie farther
   // than the nearest found (with cells much smaller than the radius, few are looked at).
   std::optional<size_t> nearest(const std::vector<Eigen::Vector2d>& points,
                                 const Eigen::Vector2d& p, double radius_m) const {
-    std::optional<size_t> found;
+    const size_t j = nearest_index(points, p, radius_m);
+    return j == kNone ? std::nullopt : std::optional<size_t>(j);
+  }
+  // The same, kNone for none (a std::optional returned in a loop's every pass went through
+  // memory in two parts and was read back in one: a stall each time).
+  size_t nearest_index(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& p,
+                       double radius_m) const {
+    size_t found = kNone;
     double best = radius_m * radius_m;
+    // Ties: the lower index (none found yet is kNone, above every index).
     auto consider = [&](size_t j) {
       const double d2 = (points[j] - p).squaredNorm();
-      if (d2 > best || (found && d2 == best && j > *found)) return;
+      if (d2 > best || (d2 == best && j > found)) return;
       best = d2;
       found = j;
     };
@@ -90,7 +105,7 @@ class PointGrid {
       return found;
     for (long long r = 0; r <= last_ring; ++r) {
       const double clear_m = static_cast<double>(r - 1) * cell_m_;
-      if (r >= 2 && found && best < clear_m * clear_m) break;
+      if (r >= 2 && found != kNone && best < clear_m * clear_m) break;
       for (long long i = x - r; i <= x + r; ++i) {
         if (i < 0 || i >= columns_) continue;
         const bool edge_column = i == x - r || i == x + r;
@@ -145,14 +160,16 @@ class PointGrid {
     return {static_cast<long long>(std::floor(p.x() / cell_m_)),
             static_cast<long long>(std::floor(p.y() / cell_m_))};
   }
-  size_t slot(long long cx, long long cy) const {
+  size_t slot(const Eigen::Vector2d& p) const {
+    const auto [cx, cy] = cell(p);
     return static_cast<size_t>((cx - x0_) * rows_ + (cy - y0_));
   }
+  static constexpr size_t kNone32 = std::numeric_limits<std::uint32_t>::max();
 
   double cell_m_;
   long long x0_ = 0, y0_ = 0, columns_ = 0, rows_ = 0;
-  std::vector<size_t> start_;    // the points of cell k: indices_[start_[k] .. start_[k + 1])
-  std::vector<size_t> indices_;  // point indices, cell by cell
+  std::vector<std::uint32_t> start_;  // the points of cell k: indices_[start_[k] .. start_[k + 1])
+  std::vector<std::uint32_t> indices_;  // point indices, cell by cell
   std::vector<size_t> all_;      // without a dense grid: every point
 };
 
