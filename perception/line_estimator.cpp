@@ -283,9 +283,19 @@ LineMeasurement LineEstimator::estimate_with_widths(const cv::Mat& frame, double
     return search_on_axis(frame, small, *remembered, stamp_s, &d, history);
   if (axes.empty()) return not_found(stamp_s, "flat frame: nothing differs from the floor", &d);
   const LineMeasurement m = search_on_axis(frame, small, axes.front(), stamp_s, &d, history);
-  if (m.line_found || remembered || axes.size() < 2) return m;
+  if (m.line_found) return m;
+  // The next axis: with one remembered (of the same colour direction as the frame's best, which
+  // a glare spot in view may have turned towards white), that one; else the frame's next best.
+  std::optional<ContrastAxis> next;
+  if (remembered) {
+    if (remembered->weights != axes.front().weights || remembered->offset != axes.front().offset)
+      next = *remembered;
+  } else if (axes.size() >= 2) {
+    next = axes[1];
+  }
+  if (!next) return m;
   LineDetection second;
-  const LineMeasurement other = search_on_axis(frame, small, axes[1], stamp_s, &second, history);
+  const LineMeasurement other = search_on_axis(frame, small, *next, stamp_s, &second, history);
   if (!other.line_found) return m;  // the best axis's reason
   d = std::move(second);
   return other;
