@@ -330,8 +330,10 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   // the slopes the fit sees stay small. Only points near the origin across the tape too: with a
   // frame still turned (a corner's outgoing leg in view), the window along it would reach the
   // other leg.
-  double frame_rad = tape_heading_rad_ ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad)
-                                       : -in_view.e_theta_rad;
+  const double first_frame_rad = tape_heading_rad_
+                                     ? wrap_angle_rad(*tape_heading_rad_ - vehicle_.yaw_rad)
+                                     : -in_view.e_theta_rad;
+  double frame_rad = first_frame_rad;
   std::optional<JoinedArcs> fit;
   // Only points as near the origin as the window's corners (a rounding margin) can lie in it,
   // whichever way it turns.
@@ -339,6 +341,13 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   std::vector<size_t> near_origin;
   for (size_t i = 0; i < in_vehicle.size(); ++i)
     if (in_vehicle[i].squaredNorm() <= reach_m * reach_m) near_origin.push_back(i);
+  // Where the window holds more than one tape (below), only the points within a tape width of
+  // the course last measured, carried forward.
+  bool on_course_only = false;
+  // (std::optional here trips GCC 12's maybe-uninitialized warning.)
+  const bool has_course = last_course_.has_value();
+  const CurveModel::Prepared course = (has_course ? last_course_now() : CurveModel{}).prepared();
+  const double course_gate_m = std::max(tape_width_m_, kNarrowTape_m);
   for (int pass = 0;; ++pass) {
     std::vector<Eigen::Vector2d> local;
     std::vector<double> weights;                // each point's observations
@@ -347,6 +356,8 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     for (size_t i : near_origin) {
       const Eigen::Vector2d q = to_frame(in_vehicle[i]);
       if (std::abs(q.x()) > options_.window_m || std::abs(q.y()) > options_.window_across_m)
+        continue;
+      if (on_course_only && std::abs(course.signed_distance(in_vehicle[i])) > course_gate_m)
         continue;
       local.push_back(q);
       weights.push_back(points_[i].observations);
@@ -363,7 +374,18 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     fit = fit_joined_arcs(local, weights);
     if (!fit) return std::nullopt;
     // The fit is in this frame: turn it only for another pass (the model below adds the slope).
-    if (std::abs(fit->slope) < 0.02 || pass == 2) break;
+    if (std::abs(fit->slope) < 0.02 || pass == 2) {
+      // A residual of millimetres in the fit kept: the window holds more than one tape (a
+      // fork's other leg beside the one under the vehicle), whose fit runs off at any angle.
+      // Fitted again, turned as at first, to the tape along the course last measured, where
+      // there is one.
+      if (fit->rms_m <= options_.max_fit_rms_m) break;
+      if (!has_course || on_course_only) return std::nullopt;
+      on_course_only = true;
+      frame_rad = first_frame_rad;
+      pass = -1;
+      continue;
+    }
     frame_rad += std::atan(fit->slope);
   }
   // The tape under the vehicle turns by its curvature times the distance driven: a fit that
