@@ -90,6 +90,23 @@ TEST(LineEstimator, FindsTheTapeWithoutHintsForAnyPolarity) {
   }
 }
 
+// The frame measured with a history of one frame whose line (`clean`'s, width_m wide) was found
+// on `axis`.
+LineMeasurement with_one_frame_history(const LineEstimator& estimator, const cv::Mat& frame,
+                                       const LineDetection& clean, double width_m,
+                                       const ContrastAxis& axis) {
+  FollowHistory history;
+  history.update(std::nullopt, clean.followed_model, width_m, axis);
+  return estimator.estimate(frame, 0.0, nullptr, &history);
+}
+
+// A line within 0.3 mm and 0.2 deg of the reference.
+void expect_as_reference(const LineMeasurement& m, const LineMeasurement& reference) {
+  ASSERT_TRUE(m.line_found);
+  EXPECT_NEAR(m.e_d_m, reference.e_d_m, 0.0003);
+  EXPECT_NEAR(rad_to_deg(m.e_theta_rad), rad_to_deg(reference.e_theta_rad), 0.2);
+}
+
 // White tape on a light floor strewn with darker blotches: the colour axis chosen afresh is the
 // blotches' (darker; they stand out more than the tape), and no line comes of it; the next axis
 // that points another way in colour (lighter) is searched too and finds the tape where the same
@@ -133,17 +150,11 @@ TEST(LineEstimator, AFloorWhoseBlotchesOutshineTheTapeIsSearchedOnTheAxisTheTape
   ASSERT_LT(first->weights[0], 0.0f) << "the blotches' darker axis must win for this test";
   LineDetection fresh;
   const LineMeasurement without_history = estimator.estimate(blotchy, 0.0, &fresh);
-  ASSERT_TRUE(without_history.line_found);
+  expect_as_reference(without_history, reference);
   EXPECT_GT(fresh.axis.weights[0], 0.0f);
-  EXPECT_NEAR(without_history.e_d_m, reference.e_d_m, 0.0003);
-  EXPECT_NEAR(rad_to_deg(without_history.e_theta_rad), rad_to_deg(reference.e_theta_rad), 0.2);
-  FollowHistory history;
-  history.update(std::nullopt, clean_detection.followed_model, reference.tape_width_m,
-                 clean_detection.axis);
-  const LineMeasurement with_history = estimator.estimate(blotchy, 0.0, nullptr, &history);
-  ASSERT_TRUE(with_history.line_found);
-  EXPECT_NEAR(with_history.e_d_m, reference.e_d_m, 0.0003);
-  EXPECT_NEAR(rad_to_deg(with_history.e_theta_rad), rad_to_deg(reference.e_theta_rad), 0.2);
+  expect_as_reference(with_one_frame_history(estimator, blotchy, clean_detection,
+                                             reference.tape_width_m, clean_detection.axis),
+                      reference);
 }
 
 // Dark blue tape on a dark grey floor with a glare spot (the renderer's) beside it: the colour
@@ -177,18 +188,13 @@ TEST(LineEstimator, AGlareSpotThatOutshinesTheTapeLeavesTheRememberedAxisToSearc
       << "the spot must defeat the search without a history for this test";
   ASSERT_GT(fresh.axis.weights.dot(clean_detection.axis.weights), 0.0f)
       << "the spot's axis must point the tape's way in colour for this test";
-  FollowHistory on_spot_axis;  // the frame's best axis remembered: searched alone
-  on_spot_axis.update(std::nullopt, clean_detection.followed_model, reference.tape_width_m,
-                      fresh.axis);
-  ASSERT_FALSE(estimator.estimate(glare, 0.0, nullptr, &on_spot_axis).line_found);
-
-  FollowHistory history;
-  history.update(std::nullopt, clean_detection.followed_model, reference.tape_width_m,
-                 clean_detection.axis);
-  const LineMeasurement with_history = estimator.estimate(glare, 0.0, nullptr, &history);
-  ASSERT_TRUE(with_history.line_found);
-  EXPECT_NEAR(with_history.e_d_m, reference.e_d_m, 0.0003);
-  EXPECT_NEAR(rad_to_deg(with_history.e_theta_rad), rad_to_deg(reference.e_theta_rad), 0.2);
+  // The frame's best axis remembered: searched alone.
+  ASSERT_FALSE(
+      with_one_frame_history(estimator, glare, clean_detection, reference.tape_width_m, fresh.axis)
+          .line_found);
+  expect_as_reference(with_one_frame_history(estimator, glare, clean_detection,
+                                             reference.tape_width_m, clean_detection.axis),
+                      reference);
 }
 
 // The axis is remembered from the frames that found a line and forgotten after

@@ -337,10 +337,14 @@ TEST(PathMemory, ADriftTheOdometryKeepsMakingIsRemovedInFull) {
 // missing. Exact odometry, 20 mm a frame; the line in view carried back 5 mm off the truth.
 double other_tape_beside_m(double s_m) { return s_m >= 1.0 && s_m <= 1.15 ? -0.07 : 0.0; }
 
-double worst_beside_another_tape_m(const PathMemoryOptions& options) {
+// The largest |e_d| (and |e_theta| in *worst_heading_rad, if given) over a drive along a straight
+// tape whose evidence lies `centre_offset_m(s)` off it, the line in view carried back 5 mm off.
+double worst_over_straight_drive_m(const PathMemoryOptions& options,
+                                   double (*centre_offset_m)(double),
+                                   double* worst_heading_rad = nullptr) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
   PathMemory memory(options);
-  double worst_m = 0.0;
+  double worst_m = 0.0, worst_rad = 0.0;
   for (int k = 0; k < 70; ++k) {
     const double s = 0.02 * k;
     const Pose2 vehicle{s, 0.0, 0.0};
@@ -348,10 +352,12 @@ double worst_beside_another_tape_m(const PathMemoryOptions& options) {
     in_view.line_found = true;
     in_view.e_d_m = 0.005;  // the truth is 0
     const LineMeasurement m =
-        memory.update(in_view, seen_from(path, vehicle, s, other_tape_beside_m), vehicle);
+        memory.update(in_view, seen_from(path, vehicle, s, centre_offset_m), vehicle);
     EXPECT_TRUE(m.line_found);
     worst_m = std::max(worst_m, std::abs(m.e_d_m));
+    worst_rad = std::max(worst_rad, std::abs(m.e_theta_rad));
   }
+  if (worst_heading_rad) *worst_heading_rad = worst_rad;
   return worst_m;
 }
 
@@ -359,10 +365,10 @@ double worst_beside_another_tape_m(const PathMemoryOptions& options) {
 // refused: the line in view carried back instead (5 mm off); with any offset allowed
 // (max_offset_jump_m 1 m), the errors came from the other tape, tens of millimetres off.
 TEST(PathMemory, AnotherTapeRememberedBesideTheVehicleDoesNotGiveTheErrors) {
-  EXPECT_LE(worst_beside_another_tape_m({}), 0.006);
+  EXPECT_LE(worst_over_straight_drive_m({}, other_tape_beside_m), 0.006);
   PathMemoryOptions any_offset;
   any_offset.max_offset_jump_m = 1.0;
-  EXPECT_GE(worst_beside_another_tape_m(any_offset), 0.03);
+  EXPECT_GE(worst_over_straight_drive_m(any_offset, other_tape_beside_m), 0.03);
 }
 
 // A fork's branch remembered beside the way taken: perception followed the branch over a short
@@ -377,33 +383,13 @@ double branch_beside_m(double s_m) {
   return s_m >= 1.0 && s_m <= 1.05 ? -0.04 - 1.2 * (s_m - 1.0) : 0.0;
 }
 
-double worst_beside_a_branch_m(const PathMemoryOptions& options, double* worst_heading_rad) {
-  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
-  PathMemory memory(options);
-  double worst_m = 0.0;
-  *worst_heading_rad = 0.0;
-  for (int k = 0; k < 70; ++k) {
-    const double s = 0.02 * k;
-    const Pose2 vehicle{s, 0.0, 0.0};
-    LineMeasurement in_view;
-    in_view.line_found = true;
-    in_view.e_d_m = 0.005;  // the truth is 0
-    const LineMeasurement m =
-        memory.update(in_view, seen_from(path, vehicle, s, branch_beside_m), vehicle);
-    EXPECT_TRUE(m.line_found);
-    worst_m = std::max(worst_m, std::abs(m.e_d_m));
-    *worst_heading_rad = std::max(*worst_heading_rad, std::abs(m.e_theta_rad));
-  }
-  return worst_m;
-}
-
 TEST(PathMemory, AFitThroughABranchRememberedBesideTheTapeIsRefused) {
   double heading_rad = 0.0;
-  EXPECT_LE(worst_beside_a_branch_m({}, &heading_rad), 0.0051);
+  EXPECT_LE(worst_over_straight_drive_m({}, branch_beside_m, &heading_rad), 0.0051);
   EXPECT_LE(rad_to_deg(heading_rad), 1.0);
   PathMemoryOptions any_residual;
   any_residual.max_fit_rms_m = 1.0;
-  EXPECT_GE(worst_beside_a_branch_m(any_residual, &heading_rad), 0.02);
+  EXPECT_GE(worst_over_straight_drive_m(any_residual, branch_beside_m, &heading_rad), 0.02);
   EXPECT_GE(rad_to_deg(heading_rad), 30.0);
 }
 
