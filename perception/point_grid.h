@@ -39,8 +39,8 @@ class PointGrid {
       return;
     }
     // Counted into each cell's slot, summed so that start_[k] is where cell k ends, then each
-    // point placed in front of its cell's end, the last point first: start_[k] ends where cell
-    // k begins, and each cell lists its points in index order.
+    // point placed just before its cell's end, which moves down, the last point first: start_[k]
+    // is then where cell k begins, and each cell lists its points in index order.
     const size_t cells = static_cast<size_t>(columns_ * rows_);
     start_.assign(cells + 1, 0);
     for (const Eigen::Vector2d& p : points) ++start_[slot(p)];
@@ -164,6 +164,7 @@ class PointGrid {
     const auto [cx, cy] = cell(p);
     return static_cast<size_t>((cx - x0_) * rows_ + (cy - y0_));
   }
+  // More points than 32-bit indices can name get no dense grid.
   static constexpr size_t kNone32 = std::numeric_limits<std::uint32_t>::max();
 
   double cell_m_;
