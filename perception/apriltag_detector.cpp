@@ -19,15 +19,17 @@ extern "C" {
 }
 
 namespace agv::perception {
-namespace {
 
-struct FamilyFunctions {
+// Outside the anonymous namespace: AprilTagDetector::Impl holds a pointer to one.
+struct AprilTagFamilyFunctions {
   const char* name;
   apriltag_family_t* (*create)();
   void (*destroy)(apriltag_family_t*);
 };
 
-constexpr FamilyFunctions kFamilies[] = {
+namespace {
+
+constexpr AprilTagFamilyFunctions kFamilies[] = {
     {"tag36h11", tag36h11_create, tag36h11_destroy},
     {"tag25h9", tag25h9_create, tag25h9_destroy},
     {"tag16h5", tag16h5_create, tag16h5_destroy},
@@ -44,7 +46,7 @@ cv::Point2d to_opencv(const double p[2]) { return {p[0] - 0.5, p[1] - 0.5}; }
 }  // namespace
 
 struct AprilTagDetector::Impl {
-  const FamilyFunctions* functions = nullptr;
+  const AprilTagFamilyFunctions* functions = nullptr;
   apriltag_family_t* family = nullptr;
   apriltag_detector_t* detector = nullptr;
 
@@ -56,7 +58,7 @@ struct AprilTagDetector::Impl {
 
 AprilTagDetector::AprilTagDetector(const Options& options)
     : options_(options), impl_(std::make_unique<Impl>()) {
-  for (const FamilyFunctions& f : kFamilies) {
+  for (const AprilTagFamilyFunctions& f : kFamilies) {
     if (options.family == f.name) impl_->functions = &f;
   }
   if (!impl_->functions)
@@ -133,7 +135,7 @@ int AprilTagDetector::size_cells() const { return impl_->family->width_at_border
 
 std::vector<std::string> AprilTagDetector::families() {
   std::vector<std::string> names;
-  for (const FamilyFunctions& f : kFamilies) names.push_back(f.name);
+  for (const AprilTagFamilyFunctions& f : kFamilies) names.push_back(f.name);
   return names;
 }
 

@@ -9,7 +9,7 @@ using Clock = std::chrono::steady_clock;
 
 // Measurement times are sums of periods: a nanosecond of slack keeps rounding from delaying one
 // by a whole period.
-constexpr double kTimeSlack_s = 1e-9;
+constexpr double kMeasurementTimeSlack_s = 1e-9;
 
 }  // namespace
 
@@ -27,7 +27,7 @@ std::optional<StampedMeasurement> ControlStage::newest_usable(double t_s) {
     in_transit_.push_back(std::move(*item));
   }
   std::optional<StampedMeasurement> usable;
-  while (!in_transit_.empty() && in_transit_.front().available_s <= t_s + kTimeSlack_s) {
+  while (!in_transit_.empty() && in_transit_.front().available_s <= t_s + kMeasurementTimeSlack_s) {
     if (usable) ++superseded_;
     usable = std::move(in_transit_.front());
     in_transit_.pop_front();

@@ -7,7 +7,7 @@ namespace {
 
 // Frame and period times are sums of periods: a nanosecond of slack keeps rounding from moving
 // a frame to the other side of a period.
-constexpr double kTimeSlack_s = 1e-9;
+constexpr double kFrameTimeSlack_s = 1e-9;
 
 // Measures every frame taken up to limit_s.
 void take_frames_until(CameraStage& camera, double limit_s) {
@@ -32,13 +32,13 @@ RunResult run_lockstep(Loop& loop, const LockstepSchedule& schedule, const Progr
   for (; until_source_ends || k < schedule.periods; ++k) {
     const double t_s = schedule.start_s + k * schedule.ts_s;
     if (until_source_ends && !loop.camera.source().next_time_s()) break;
-    take_frames_until(loop.camera, t_s - kTimeSlack_s);  // taken while the last command held
+    take_frames_until(loop.camera, t_s - kFrameTimeSlack_s);  // taken while the last command held
     std::optional<Pose2> pose;
     if (loop.vehicle) {
       if (k > 0) loop.vehicle->advance(t_s, schedule.ts_s);
       pose = loop.vehicle->state_at(t_s).pose;
     }
-    take_frames_until(loop.camera, t_s + kTimeSlack_s);
+    take_frames_until(loop.camera, t_s + kFrameTimeSlack_s);
     result.rows.push_back(loop.control.step(t_s, pose));
     const TraceRow& row = result.rows.back();
     if (loop.vehicle) loop.vehicle->command(row.output.command);

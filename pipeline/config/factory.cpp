@@ -11,8 +11,6 @@
 namespace agv::pipeline {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // Seams and stray marks drawn as thin dark strips over the region the run can see: the main
 // path's bounding box grown by a metre.
 void add_floor_marks(const Scenario& s, Scene* scene) {
@@ -37,7 +35,7 @@ void add_floor_marks(const Scenario& s, Scene* scene) {
   if (m.seam_spacing_m > 0.0) {
     for (double x = std::ceil(lo.x() / m.seam_spacing_m) * m.seam_spacing_m; x <= hi.x();
          x += m.seam_spacing_m) {
-      strip({x, lo.y(), kPi / 2}, hi.y() - lo.y(), m.seam_width_m, m.seam_darkness);
+      strip({x, lo.y(), std::numbers::pi / 2}, hi.y() - lo.y(), m.seam_width_m, m.seam_darkness);
     }
     for (double y = std::ceil(lo.y() / m.seam_spacing_m) * m.seam_spacing_m; y <= hi.y();
          y += m.seam_spacing_m) {
@@ -47,7 +45,8 @@ void add_floor_marks(const Scenario& s, Scene* scene) {
   cv::RNG rng(s.seed * 7777 + 5);
   const int count = static_cast<int>(m.marks_per_m2 * (hi - lo).prod());
   for (int i = 0; i < count; ++i) {
-    strip({rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), rng.uniform(-kPi, kPi)},
+    strip({rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()),
+           rng.uniform(-std::numbers::pi, std::numbers::pi)},
           rng.uniform(0.02, 0.1), rng.uniform(0.001, 0.004),
           m.mark_darkness * rng.uniform(0.5, 1.0));
   }

@@ -13,10 +13,6 @@
 namespace agv::pipeline {
 namespace {
 
-nlohmann::json optional_json(const std::optional<double>& value) {
-  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
-}
-
 std::optional<double> optional_from(const nlohmann::json& value) {
   if (value.is_null()) return std::nullopt;
   return value.get<double>();

@@ -19,11 +19,11 @@ double reentry_time(const std::vector<double>& t, const std::vector<double>& e, 
   return t[i] + fraction * (t[i + 1] - t[i]);
 }
 
+}  // namespace
+
 nlohmann::json optional_json(const std::optional<double>& value) {
   return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
 }
-
-}  // namespace
 
 std::optional<double> settle_time(const std::vector<double>& t, const std::vector<double>& e_d,
                                   const std::vector<double>& e_theta, double band_d,

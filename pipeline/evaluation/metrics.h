@@ -57,6 +57,9 @@ double track_area_m2(const control::Path& path, const std::vector<Eigen::Vector2
 
 RunMetrics compute_metrics(const RunResult& run, const Scenario& scenario);
 
+// A value for summary.json and runs.jsonl: JSON null when there is none.
+nlohmann::json optional_json(const std::optional<double>& value);
+
 // summary.json: the metric keys of DESIGN.md plus what the run was and how it went.
 nlohmann::json summary_json(const RunMetrics& metrics, const RunResult& run,
                             const Scenario& scenario);

@@ -5,11 +5,11 @@
 namespace agv::control {
 namespace {
 
-constexpr double kTs = 0.1;
+constexpr double kPidTs_s = 0.1;
 
 ControlContext context(double path_speed_m_s = 0.3) {
   ControlContext c;
-  c.ts_s = kTs;
+  c.ts_s = kPidTs_s;
   c.path_speed_m_s = path_speed_m_s;
   return c;
 }
@@ -38,8 +38,8 @@ TEST(PidController, IntegralPushesAgainstTheErrorWithinItsBound) {
   PidController pid({0.0, 1.0, 0.0, 0.0, 2.0, 0.0, 0.05});
   ControllerOutput out;
   for (int k = 0; k < 3; ++k) out = pid.update(errors(0.02, 0.01), context());
-  EXPECT_NEAR(out.command.vy_m_s, -1.0 * 3 * kTs * 0.01, 1e-12);
-  EXPECT_NEAR(out.command.wz_rad_s, -2.0 * 3 * kTs * 0.02, 1e-12);
+  EXPECT_NEAR(out.command.vy_m_s, -1.0 * 3 * kPidTs_s * 0.01, 1e-12);
+  EXPECT_NEAR(out.command.wz_rad_s, -2.0 * 3 * kPidTs_s * 0.02, 1e-12);
   for (int k = 0; k < 200; ++k) out = pid.update(errors(1.0, 1.0), context());
   EXPECT_NEAR(out.command.vy_m_s, -0.05, 1e-12);
   EXPECT_NEAR(out.command.wz_rad_s, -0.05, 1e-12);
@@ -57,8 +57,8 @@ TEST(PidController, DerivativeOpposesAGrowingErrorWithoutAFirstKick) {
   EXPECT_DOUBLE_EQ(out.command.vy_m_s, 0.0);
   EXPECT_DOUBLE_EQ(out.command.wz_rad_s, 0.0);
   out = pid.update(errors(0.07, 0.03), context());
-  EXPECT_NEAR(out.command.vy_m_s, -0.5 * 0.01 / kTs, 1e-12);
-  EXPECT_NEAR(out.command.wz_rad_s, -0.2 * 0.02 / kTs, 1e-12);
+  EXPECT_NEAR(out.command.vy_m_s, -0.5 * 0.01 / kPidTs_s, 1e-12);
+  EXPECT_NEAR(out.command.wz_rad_s, -0.2 * 0.02 / kPidTs_s, 1e-12);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 namespace agv::control {
 namespace {
 
-ControlContext context() {
+ControlContext seed004_context() {
   ControlContext c;
   c.ts_s = 0.1;
   c.path_speed_m_s = 0.3;
@@ -22,7 +22,7 @@ TEST(Seed004Controller, FeedForwardPlusProportionalHandValues) {
   Seed004Controller controller(options);
   TrackingEstimate e;
   e.e_d_m = 0.01;
-  ControllerOutput out = controller.update(e, context());
+  ControllerOutput out = controller.update(e, seed004_context());
   EXPECT_NEAR(out.command.vx_m_s, 0.3, 1e-12);
   EXPECT_NEAR(out.command.vy_m_s, -0.02, 1e-12);
   EXPECT_NEAR(out.command.wz_rad_s, 0.0, 1e-12);
@@ -31,7 +31,7 @@ TEST(Seed004Controller, FeedForwardPlusProportionalHandValues) {
   e = TrackingEstimate{};
   e.e_theta_rad = 0.1;
   e.curvature_1_m = 2.0;
-  out = controller.update(e, context());
+  out = controller.update(e, seed004_context());
   EXPECT_NEAR(out.command.vx_m_s, 0.3 * std::cos(0.1), 1e-12);
   EXPECT_NEAR(out.command.vy_m_s, -0.3 * std::sin(0.1), 1e-12);
   EXPECT_NEAR(out.command.wz_rad_s, 0.6 - 0.25, 1e-12);
@@ -43,11 +43,12 @@ TEST(Seed004Controller, SlowsDownAndHoldsTheEndPose) {
   Seed004Controller controller(Seed004Controller::Options{});
   TrackingEstimate e;
   e.remaining_m = 0.06;  // sqrt(2 * 0.3 * 0.06) = 0.19 m/s
-  EXPECT_NEAR(controller.update(e, context()).command.vx_m_s, std::sqrt(2 * 0.3 * 0.06), 1e-12);
+  EXPECT_NEAR(controller.update(e, seed004_context()).command.vx_m_s, std::sqrt(2 * 0.3 * 0.06),
+              1e-12);
   e.remaining_m = 0.01;  // within end_hold_m: reference = end pose, vx = k_along * 0.01
-  EXPECT_NEAR(controller.update(e, context()).command.vx_m_s, 0.01, 1e-12);
+  EXPECT_NEAR(controller.update(e, seed004_context()).command.vx_m_s, 0.01, 1e-12);
   e.remaining_m = -0.004;  // 4 mm past the end: back up
-  EXPECT_NEAR(controller.update(e, context()).command.vx_m_s, -0.004, 1e-12);
+  EXPECT_NEAR(controller.update(e, seed004_context()).command.vx_m_s, -0.004, 1e-12);
 }
 
 // S3.4: a wheel over its limit scales all four by one factor (ratios kept); S3.5: the change of
@@ -78,7 +79,7 @@ TEST(Seed004Controller, MecanumWheelProtectionKeepsTheDirection) {
   Seed004Controller controller(options);
   TrackingEstimate e;
   e.e_d_m = 0.02;  // wants vy = -0.4 with vx = 0.3: wheels at up to 14 rad/s
-  const ControllerOutput out = controller.update(e, context());
+  const ControllerOutput out = controller.update(e, seed004_context());
   EXPECT_LE(mecanum_inverse(*options.mecanum, out.command).cwiseAbs().maxCoeff(), 8.0 + 1e-9);
   EXPECT_NEAR(out.command.vy_m_s / out.command.vx_m_s, -0.4 / 0.3, 1e-9);
 }

@@ -7,8 +7,8 @@
 namespace agv::control {
 namespace {
 
-constexpr double kTs = 0.1;
-const WheelLimits kLimits{10.0, 20.0};  // 10 rad/s; 20 rad/s^2: 2 rad/s per tick
+constexpr double kWheelTs_s = 0.1;
+const WheelLimits kWheelLimits{10.0, 20.0};  // 10 rad/s; 20 rad/s^2: 2 rad/s per tick
 
 MecanumWheelSpeeds wheels(double a, double b, double c, double d) {
   MecanumWheelSpeeds w;
@@ -21,7 +21,7 @@ MecanumWheelSpeeds wheels(double a, double b, double c, double d) {
 TEST(WheelProtection, SpeedIsScaledOnAllFourKeepingTheirRatios) {
   const MecanumWheelSpeeds desired = wheels(15.0, 6.0, -3.0, 9.0);
   const MecanumWheelSpeeds out =
-      protect_wheel_speeds(desired, desired * (10.0 / 15.0), kLimits, kTs);
+      protect_wheel_speeds(desired, desired * (10.0 / 15.0), kWheelLimits, kWheelTs_s);
   EXPECT_NEAR(out.cwiseAbs().maxCoeff(), 10.0, 1e-12);
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(out[i], desired[i] * 10.0 / 15.0, 1e-12) << i;
 }
@@ -31,7 +31,7 @@ TEST(WheelProtection, SpeedIsScaledOnAllFourKeepingTheirRatios) {
 TEST(WheelProtection, ChangeIsScaledOnAllFourKeepingItsDirection) {
   const MecanumWheelSpeeds previous = wheels(1.0, 1.0, 1.0, 1.0);
   const MecanumWheelSpeeds desired = wheels(6.0, 3.0, 1.0, -1.5);
-  const MecanumWheelSpeeds out = protect_wheel_speeds(desired, previous, kLimits, kTs);
+  const MecanumWheelSpeeds out = protect_wheel_speeds(desired, previous, kWheelLimits, kWheelTs_s);
   const MecanumWheelSpeeds change = out - previous;
   EXPECT_NEAR(change.cwiseAbs().maxCoeff(), 2.0, 1e-12);
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(change[i], (desired[i] - 1.0) * 2.0 / 5.0, 1e-12) << i;
@@ -41,7 +41,7 @@ TEST(WheelProtection, ChangeIsScaledOnAllFourKeepingItsDirection) {
 TEST(WheelProtection, ACommandWithinTheLimitsPassesUnchanged) {
   const MecanumWheelSpeeds previous = wheels(5.0, 5.0, 5.0, 5.0);
   const MecanumWheelSpeeds desired = wheels(6.0, 4.5, 5.5, 4.0);
-  const MecanumWheelSpeeds out = protect_wheel_speeds(desired, previous, kLimits, kTs);
+  const MecanumWheelSpeeds out = protect_wheel_speeds(desired, previous, kWheelLimits, kWheelTs_s);
   for (int i = 0; i < 4; ++i) EXPECT_DOUBLE_EQ(out[i], desired[i]) << i;
 }
 

@@ -14,8 +14,6 @@
 namespace agv::perception {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // DESIGN.md's worked example: straight down, image top to the front.
 TEST(MountPose, DesignWorkedExample) {
   const Eigen::Matrix3d r = testing::straight_down_mount().rotation();
@@ -28,7 +26,7 @@ TEST(MountPose, DesignWorkedExample) {
 TEST(MountPose, RollPitchYawRoundTrip) {
   for (const Eigen::Vector3d& rpy :
        {Eigen::Vector3d(3.0, 0.1, -1.5), Eigen::Vector3d(-2.9, -0.3, 0.4),
-        Eigen::Vector3d(kPi, 0.05, -kPi / 2 + 0.05)}) {
+        Eigen::Vector3d(std::numbers::pi, 0.05, -std::numbers::pi / 2 + 0.05)}) {
     MountPose mount;
     mount.rpy_rad = rpy;
     const MountPose back = MountPose::from_rotation(mount.xyz_m, mount.rotation());

@@ -10,7 +10,7 @@
 namespace agv::perception {
 namespace {
 
-constexpr double kWidthM = 0.025;
+constexpr double kJunctionWidthM = 0.025;
 constexpr double kDeg = M_PI / 180.0;
 
 // A straight piece of tape seen from (x0, y0) to (x1, y1), vehicle frame, fitted direction
@@ -24,14 +24,14 @@ DetectedLine seen_line(double x0, double y0, double x1, double y1, double confid
   line.model.e_d_m = -n.dot(a);  // the origin's signed distance, positive left of the line
   line.s_min_m = line.model.arc_position(a);
   line.s_max_m = line.model.arc_position(b);
-  line.width_m = kWidthM;
+  line.width_m = kJunctionWidthM;
   line.confidence = confidence;
   return line;
 }
 
 std::optional<Junction> junction_of(const std::vector<DetectedLine>& lines) {
   // As LineEstimator calls it: a tape width of margin, branches of a width (0.6 at the border).
-  return find_junction(lines, kWidthM, kWidthM, 0.6 * kWidthM);
+  return find_junction(lines, kJunctionWidthM, kJunctionWidthM, 0.6 * kJunctionWidthM);
 }
 
 // A Y fork: the tape runs straight on (x axis, 0.2-0.4 m ahead) and a branch leaves it to the

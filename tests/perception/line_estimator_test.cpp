@@ -47,13 +47,6 @@ Accuracy measure(const CameraModel& camera, const pipeline::Scene& scene,
   return a;
 }
 
-LineEstimator::Options hinted(const pipeline::Scene& scene) {
-  LineEstimator::Options options;
-  options.tape.width_m = scene.tapes.front().width_m;
-  options.tape.color_bgr = scene.tapes.front().color_bgr;
-  return options;
-}
-
 // Issue 3's bar on rendered frames with the default noise: RMS <= 0.5 mm in e_d and <= 0.2 deg
 // in e_theta, under two different mounts. Every frame shows the tape, so every frame must give
 // a line.
@@ -61,7 +54,7 @@ TEST(LineEstimator, AccuracyOnRenderedFramesUnderTwoMounts) {
   const pipeline::Scene scene = testing::straight_tape_scene();
   for (const MountPose& mount : {testing::straight_down_mount(), testing::tilted_offset_mount()}) {
     const CameraModel camera(testing::default_intrinsics(), mount);
-    const Accuracy a = measure(camera, scene, hinted(scene), 60);
+    const Accuracy a = measure(camera, scene, testing::hinted(scene), 60);
     EXPECT_EQ(a.found, a.frames) << mount.describe();
     EXPECT_LE(a.rms_e_d_m, 0.0005) << mount.describe();
     EXPECT_LE(rad_to_deg(a.rms_e_theta_rad), 0.2) << mount.describe();
@@ -286,7 +279,7 @@ TEST(LineEstimator, ALineIntoAnArcInViewIsCarriedBackAsTheLine) {
   scene.tapes[0].path =
       control::Path::starting_at({-2.0, 0.0, 0.0}).add_line(2.3).add_arc(0.3, deg_to_rad(90.0));
   const pipeline::FrameRenderer renderer(camera, scene);
-  const LineEstimator estimator(camera, hinted(scene));
+  const LineEstimator estimator(camera, testing::hinted(scene));
   for (int i = 0; i < 6; ++i) {
     const Pose2 pose{-0.02 + 0.01 * i, 0.004 * std::sin(i), deg_to_rad(2.0) * std::cos(i)};
     const LineMeasurement m = estimator.estimate(renderer.render(pose, {0.3, 0.0, 0.0}, i), 0.0);
@@ -324,7 +317,7 @@ TEST(LineEstimator, NeverReportsALineOnFramesWithoutTape) {
     scene.tapes[0].path = control::Path::starting_at({50.0, 50.0, 0.0}).add_line(1.0);  // far away
     scene.floor.texture_contrast = 0.05 + 0.1 * variant;
     scene.effects.noise_sigma = 2.0 + 3.0 * variant;
-    LineEstimator::Options hint = hinted(scene), no_hint;
+    LineEstimator::Options hint = testing::hinted(scene), no_hint;
     no_hint.tape.width_m = 0.025;
     for (const LineEstimator::Options* options : {&hint, &no_hint}) {
       const Accuracy a = measure(camera, scene, *options, 15, false, 50 + variant);

@@ -10,13 +10,13 @@
 namespace agv::perception {
 namespace {
 
-constexpr double kWidthM = 0.045;
+constexpr double kLineSetWidthM = 0.045;
 
 LineSetOptions options_for_45_mm_tape() {
   LineSetOptions options;
-  options.expected_width_m = kWidthM;
+  options.expected_width_m = kLineSetWidthM;
   options.scan_spacing_m = 0.0005;
-  options.fit.inlier_threshold_m = 0.12 * kWidthM;  // as LineEstimator sets it
+  options.fit.inlier_threshold_m = 0.12 * kLineSetWidthM;  // as LineEstimator sets it
   return options;
 }
 
@@ -34,12 +34,13 @@ std::vector<Chord> chords_with(SecondEdge second_edge_y) {
 
 // A tape with both edges all along: one line, 45 mm wide, its centre line at y = 22.5 mm.
 TEST(LineSet, TapeWithBothEdgesIsALine) {
-  const auto chords = chords_with([](cv::RNG& rng) { return kWidthM + rng.gaussian(0.0001); });
+  const auto chords =
+      chords_with([](cv::RNG& rng) { return kLineSetWidthM + rng.gaussian(0.0001); });
   std::vector<std::string> rejections;
   const auto lines = extract_lines(chords, options_for_45_mm_tape(), &rejections);
   ASSERT_EQ(lines.size(), 1u);
-  EXPECT_NEAR(lines[0].width_m, kWidthM, 0.0002);  // 0.1 mm noise per edge, median of 400
-  EXPECT_NEAR(std::abs(lines[0].model.e_d_m), 0.5 * kWidthM, 0.0002);
+  EXPECT_NEAR(lines[0].width_m, kLineSetWidthM, 0.0002);  // 0.1 mm noise per edge, median of 400
+  EXPECT_NEAR(std::abs(lines[0].model.e_d_m), 0.5 * kLineSetWidthM, 0.0002);
 }
 
 // One real edge (the tape's, say) and, beyond it, the second edge only on 30 % of the chords at
@@ -47,8 +48,8 @@ TEST(LineSet, TapeWithBothEdgesIsALine) {
 // edges nearly everywhere; this is no tape, and no line comes of it.
 TEST(LineSet, OneEdgeWithTextureBesideItIsNoLine) {
   const auto chords = chords_with([](cv::RNG& rng) {
-    return rng.uniform(0.0, 1.0) < 0.3 ? kWidthM + rng.gaussian(0.0001)
-                                       : kWidthM + rng.uniform(0.005, 0.035);
+    return rng.uniform(0.0, 1.0) < 0.3 ? kLineSetWidthM + rng.gaussian(0.0001)
+                                       : kLineSetWidthM + rng.uniform(0.005, 0.035);
   });
   std::vector<std::string> rejections;
   const auto lines = extract_lines(chords, options_for_45_mm_tape(), &rejections);

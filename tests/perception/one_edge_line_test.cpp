@@ -10,7 +10,7 @@
 namespace agv::perception {
 namespace {
 
-constexpr double kWidthM = 0.09;
+constexpr double kOneEdgeWidthM = 0.09;
 
 // The tape's centre line: an arc of R 0.5 m turning left, through (0.3 m, 0.02 m) heading 0.1
 // rad (vehicle frame), so that it is seen 0.25-0.35 m ahead.
@@ -28,9 +28,9 @@ std::vector<Chord> one_edge_chords(int seen_side, double reach) {
     const double s = s0 + 0.002 * i;
     const Eigen::Vector2d t = centre.tangent_at(s);
     const Eigen::Vector2d n(-t.y(), t.x());  // left of the centre line
-    const Eigen::Vector2d edge = centre.point_at(s) + seen_side * 0.5 * kWidthM * n;
+    const Eigen::Vector2d edge = centre.point_at(s) + seen_side * 0.5 * kOneEdgeWidthM * n;
     // Not every row leaves the same part of the tape in view.
-    const double across = reach * kWidthM * (0.7 + 0.3 * ((i % 5) / 4.0));
+    const double across = reach * kOneEdgeWidthM * (0.7 + 0.3 * ((i % 5) / 4.0));
     chords.push_back({edge, edge - seen_side * across * n});
   }
   return chords;
@@ -53,16 +53,16 @@ TEST(OneEdgeLine, EitherEdgeAndTheWidthGiveTheCentreLine) {
     SCOPED_TRACE(seen_side > 0 ? "left edge seen" : "right edge seen");
     std::vector<Chord> completed;
     std::string why;
-    const auto line = line_from_one_edge(one_edge_chords(seen_side, 0.6), kWidthM,
+    const auto line = line_from_one_edge(one_edge_chords(seen_side, 0.6), kOneEdgeWidthM,
                                          Eigen::Vector2d::UnitX(), options(), &completed, &why);
     ASSERT_TRUE(line.has_value()) << why;
     EXPECT_NEAR(line->model.e_d_m, truth.e_d_m, 1e-6);
     EXPECT_NEAR(line->model.heading_rad, truth.heading_rad, 1e-4);
     EXPECT_NEAR(line->model.curvature_1_m, truth.curvature_1_m, 1e-3);
-    EXPECT_EQ(line->width_m, kWidthM);
+    EXPECT_EQ(line->width_m, kOneEdgeWidthM);
     ASSERT_EQ(line->clean_chords.size(), 50u);
     for (int index : line->clean_chords) {
-      EXPECT_NEAR((completed[index].a - completed[index].b).norm(), kWidthM, 1e-9);
+      EXPECT_NEAR((completed[index].a - completed[index].b).norm(), kOneEdgeWidthM, 1e-9);
       EXPECT_NEAR(truth.signed_distance(completed[index].centre()), 0.0, 1e-5);
     }
   }
@@ -73,14 +73,14 @@ TEST(OneEdgeLine, EitherEdgeAndTheWidthGiveTheCentreLine) {
 TEST(OneEdgeLine, RefusesWhatIsNoTapeOfTheWidthKnown) {
   std::vector<Chord> completed;
   std::string why;
-  EXPECT_FALSE(line_from_one_edge(one_edge_chords(1, 1.5), kWidthM, Eigen::Vector2d::UnitX(),
+  EXPECT_FALSE(line_from_one_edge(one_edge_chords(1, 1.5), kOneEdgeWidthM, Eigen::Vector2d::UnitX(),
                                   options(), &completed, &why));
   EXPECT_NE(why.find("more tape in view"), std::string::npos) << why;
 
   std::vector<Chord> both_sides = one_edge_chords(1, 0.6);
   for (size_t i = 0; i < both_sides.size(); i += 2)
     both_sides[i].b = 2.0 * both_sides[i].a - both_sides[i].b;  // mirrored across the edge
-  EXPECT_FALSE(line_from_one_edge(both_sides, kWidthM, Eigen::Vector2d::UnitX(), options(),
+  EXPECT_FALSE(line_from_one_edge(both_sides, kOneEdgeWidthM, Eigen::Vector2d::UnitX(), options(),
                                   &completed, &why));
   EXPECT_NE(why.find("both sides"), std::string::npos) << why;
 

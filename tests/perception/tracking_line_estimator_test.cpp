@@ -12,15 +12,6 @@
 namespace agv::perception {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
-LineEstimator::Options hinted(const pipeline::Scene& scene) {
-  LineEstimator::Options options;
-  options.tape.width_m = scene.tapes.front().width_m;
-  options.tape.color_bgr = scene.tapes.front().color_bgr;
-  return options;
-}
-
 // A pose near the first tape of the scene: at arc length s, offset e_d to the left and turned
 // by e_theta.
 Pose2 pose_on(const control::Path& path, double s_m, double e_d_m, double e_theta_rad) {
@@ -43,8 +34,8 @@ SequenceResult drive(const CameraModel& camera, const pipeline::Scene& scene, do
                      int frames) {
   const pipeline::FrameRenderer renderer(camera, scene);
   const control::Path& path = scene.tapes.front().path;
-  TrackingLineEstimator tracking(camera, hinted(scene));
-  const LineEstimator full_search(camera, hinted(scene));
+  TrackingLineEstimator tracking(camera, testing::hinted(scene));
+  const LineEstimator full_search(camera, testing::hinted(scene));
   SequenceResult r;
   double d2 = 0, t2 = 0, fd2 = 0, ft2 = 0;
   for (int k = 0; k < frames; ++k) {
@@ -90,7 +81,8 @@ TEST(TrackingLineEstimator, AsAccurateAsTheFullSearchOnStraightAndCurvedSequence
   EXPECT_GE(a.counts.tracked, 45);
 
   pipeline::Scene arc = testing::straight_tape_scene();
-  arc.tapes[0].path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.6, kPi);
+  arc.tapes[0].path =
+      control::Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.6, std::numbers::pi);
   const SequenceResult b = drive(camera, arc, 1.3, 40);
   EXPECT_EQ(b.found, b.frames);
   EXPECT_EQ(b.found_by_full_search, b.frames);
@@ -106,7 +98,7 @@ TEST(TrackingLineEstimator, FallsBackToTheFullSearchWhenTheLineJumps) {
   const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
   const pipeline::Scene scene = testing::straight_tape_scene();
   const pipeline::FrameRenderer renderer(camera, scene);
-  TrackingLineEstimator tracking(camera, hinted(scene));
+  TrackingLineEstimator tracking(camera, testing::hinted(scene));
   for (int k = 0; k < 3; ++k) {
     ASSERT_TRUE(
         tracking.measure(renderer.render({1.0 + 0.03 * k, 0.0, 0.0}, {}, k), 0.1 * k).line_found);
@@ -125,7 +117,7 @@ TEST(TrackingLineEstimator, ReportsNoLineWhenTheTapeLeavesTheView) {
   const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
   pipeline::Scene scene = testing::straight_tape_scene();
   const pipeline::FrameRenderer renderer(camera, scene);
-  TrackingLineEstimator tracking(camera, hinted(scene));
+  TrackingLineEstimator tracking(camera, testing::hinted(scene));
   for (int k = 0; k < 4; ++k)
     ASSERT_TRUE(tracking.measure(renderer.render({1.0 + 0.03 * k, 0.0, 0.0}, {}, k), 0).line_found);
   // The tape ends at x = 8 m; the camera looks 0.3 m ahead of the vehicle.
@@ -139,10 +131,10 @@ TEST(TrackingLineEstimator, ACrossingTapeDoesNotCaptureTheTrackedLine) {
   const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
   pipeline::Scene scene = testing::straight_tape_scene();
   pipeline::TapeStrip crossing = scene.tapes[0];
-  crossing.path = control::Path::starting_at({2.5, -1.0, kPi / 2}).add_line(2.0);
+  crossing.path = control::Path::starting_at({2.5, -1.0, std::numbers::pi / 2}).add_line(2.0);
   scene.tapes.push_back(crossing);
   const pipeline::FrameRenderer renderer(camera, scene);
-  TrackingLineEstimator tracking(camera, hinted(scene));
+  TrackingLineEstimator tracking(camera, testing::hinted(scene));
   int found = 0;
   for (int k = 0; k < 30; ++k) {
     const Pose2 pose{1.7 + 0.03 * k, 0.004 * std::sin(0.4 * k),

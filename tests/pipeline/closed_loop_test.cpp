@@ -13,12 +13,13 @@
 namespace agv::pipeline {
 namespace {
 
-// Sanitizers slow frames down 5-15 times: timings of the threaded loop mean nothing there
-// (the runs still happen, for the sanitizer to check them).
-#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
+// ThreadSanitizer slows frames down 5-15 times: timings of the threaded loop mean nothing
+// there (the runs still happen, for the sanitizer to check them). AddressSanitizer's build
+// keeps up with real time; tools/setup.sh test runs the timing comparison there on its own.
+#if defined(__SANITIZE_THREAD__)
+constexpr bool kSlowedByThreadSanitizer = true;
 #else
-constexpr bool kSanitized = false;
+constexpr bool kSlowedByThreadSanitizer = false;
 #endif
 
 Scenario default_with(const std::vector<std::pair<std::string, std::string>>& overrides) {
@@ -156,7 +157,7 @@ TEST(ClosedLoop, ThreadedModeMatchesLockstep) {
   std::printf("lockstep: max |e_d| %.2f mm, settle %.2f s; threaded: %.2f mm, %.2f s\n",
               1e3 * a.max_abs_e_d_m, a.settle_time_s.value_or(-1), 1e3 * b.max_abs_e_d_m,
               b.settle_time_s.value_or(-1));
-  if (kSanitized) GTEST_SKIP() << "timing comparison skipped in a sanitizer build";
+  if (kSlowedByThreadSanitizer) GTEST_SKIP() << "timing comparison skipped under ThreadSanitizer";
   ASSERT_TRUE(a.settle_time_s && b.settle_time_s);
   EXPECT_NEAR(*b.settle_time_s, *a.settle_time_s, 0.15);
   EXPECT_NEAR(b.max_abs_e_d_m, a.max_abs_e_d_m, 0.0005);

@@ -28,7 +28,7 @@ OnTape on_tape(const RunResult& run) {
 }
 
 // A shipped scenario with `sets` ("key=value") applied as --set would.
-Scenario shipped(const std::string& name, const std::vector<std::string>& sets = {}) {
+Scenario shipped_scenario(const std::string& name, const std::vector<std::string>& sets = {}) {
   return load_scenario_for_command(std::string(AGV_SOURCE_DIR) + "/scenarios/" + name + ".yaml",
                                    sets);
 }
@@ -40,7 +40,7 @@ Scenario shipped(const std::string& name, const std::vector<std::string>& sets =
 // the 2 mm band); no frame is lost and no limit is broken.
 TEST(Forks, TheVehicleTakesTheWayChosen) {
   for (const char* name : {"fork_left", "fork_right", "fork_straight"}) {
-    const Scenario s = shipped(name);
+    const Scenario s = shipped_scenario(name);
     const RunResult run = run_scenario(s);
     const RunMetrics m = compute_metrics(run, s);
     const OnTape r = on_tape(run);
@@ -76,7 +76,7 @@ TEST(Forks, TheVehicleTakesTheWayChosen) {
 // the tape from the first second on and within the 2 mm band at the end, no limit broken.
 RunMetrics expect_turn_kept(const std::string& name, double within_m,
                             const std::vector<std::string>& sets = {}) {
-  const Scenario s = shipped(name, sets);
+  const Scenario s = shipped_scenario(name, sets);
   const RunResult run = run_scenario(s);
   const RunMetrics m = compute_metrics(run, s);
   const OnTape r = on_tape(run);

@@ -13,7 +13,7 @@
 namespace agv::pipeline {
 namespace {
 
-Scenario shipped(const std::string& name) {
+Scenario line_loss_scenario(const std::string& name) {
   return pipeline::load_scenario_for_command(
       std::string(AGV_SOURCE_DIR) + "/scenarios/line_loss_" + name + ".yaml", {});
 }
@@ -67,7 +67,7 @@ void report_and_check_stop(const LossFigures& f, const Scenario& s) {
 }
 
 TEST(LineLoss, CoveredCameraStopsWithinTheLimitThenResumes) {
-  const Scenario s = shipped("covered");
+  const Scenario s = line_loss_scenario("covered");
   const RunResult run = run_scenario(s);
   const RunMetrics m = compute_metrics(run, s);
   EXPECT_EQ(m.limit_violations, 0);
@@ -83,7 +83,7 @@ TEST(LineLoss, CoveredCameraStopsWithinTheLimitThenResumes) {
 }
 
 TEST(LineLoss, GapLongerThanTheViewStopsWithinTheLimit) {
-  const Scenario s = shipped("gap");
+  const Scenario s = line_loss_scenario("gap");
   const RunResult run = run_scenario(s);
   EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
   const LossFigures f = figures_of(run);
@@ -94,7 +94,7 @@ TEST(LineLoss, GapLongerThanTheViewStopsWithinTheLimit) {
 }
 
 TEST(LineLoss, TapeEndStopsWithinTheLimitAndStays) {
-  const Scenario s = shipped("tape_end");
+  const Scenario s = line_loss_scenario("tape_end");
   const RunResult run = run_scenario(s);
   EXPECT_EQ(compute_metrics(run, s).limit_violations, 0);
   const LossFigures f = figures_of(run);
@@ -107,7 +107,7 @@ TEST(LineLoss, TapeEndStopsWithinTheLimitAndStays) {
 // Washed-out frames for less than the hold time: driven through on the last good estimate, no
 // stop, no limit broken, and still on the line (within the paper's 2 mm band) afterwards.
 TEST(LineLoss, ShortFlashIsBridgedByTheHold) {
-  const Scenario s = shipped("flash");
+  const Scenario s = line_loss_scenario("flash");
   const RunResult run = run_scenario(s);
   const RunMetrics m = compute_metrics(run, s);
   EXPECT_EQ(m.limit_violations, 0);

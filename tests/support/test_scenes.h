@@ -7,9 +7,18 @@
 #include "common/angles.h"
 #include "control/path.h"
 #include "perception/camera_model.h"
+#include "perception/line_estimator.h"
 #include "pipeline/sim/scene.h"
 
 namespace agv::testing {
+
+// Line estimator options told the scene's first tape's width and colour.
+inline perception::LineEstimator::Options hinted(const pipeline::Scene& scene) {
+  perception::LineEstimator::Options options;
+  options.tape.width_m = scene.tapes.front().width_m;
+  options.tape.color_bgr = scene.tapes.front().color_bgr;
+  return options;
+}
 
 // The project's default camera (pipeline/config/default_camera.yaml), written out here so that a
 // change to the shipped file does not silently change what tests check.

@@ -11,7 +11,7 @@ namespace {
 
 // The message of the InputError that `read` throws ("" when none).
 template <typename Read>
-std::string error_of(Read read) {
+std::string message_of(Read read) {
   try {
     read();
   } catch (const InputError& e) {
@@ -37,7 +37,7 @@ TEST(YamlReader, AnUnknownKeyIsNamedEvenInsideAListItem) {
     in.number(k + "radius_m", 1.0, 0.0, 100.0);
     in.number(k + "angle_rad", 1.0, -10.0, 10.0);
   }
-  const std::string message = error_of([&] { in.finish(); });
+  const std::string message = message_of([&] { in.finish(); });
   EXPECT_NE(message.find("bend.yaml"), std::string::npos) << message;
   EXPECT_NE(message.find("radus_m"), std::string::npos) << message;
 }
@@ -45,15 +45,15 @@ TEST(YamlReader, AnUnknownKeyIsNamedEvenInsideAListItem) {
 // Values are checked by type and range, naming the key; a --set override names the option.
 TEST(YamlReader, BadValuesAreNamedByKeyAndOrigin) {
   YamlReader in(parse_yaml("duration_s: -3\nname: [1, 2]\nts: .nan\n", "s.yaml"), "s.yaml");
-  std::string message = error_of([&] { in.number("duration_s", 1.0, 0.0, 60.0); });
+  std::string message = message_of([&] { in.number("duration_s", 1.0, 0.0, 60.0); });
   EXPECT_NE(message.find("duration_s"), std::string::npos) << message;
   EXPECT_NE(message.find("s.yaml"), std::string::npos) << message;
-  message = error_of([&] { in.text("name", ""); });
+  message = message_of([&] { in.text("name", ""); });
   EXPECT_NE(message.find("name"), std::string::npos) << message;
-  message = error_of([&] { in.number("ts", 0.1, 0.0, 1.0); });
+  message = message_of([&] { in.number("ts", 0.1, 0.0, 1.0); });
   EXPECT_NE(message.find("ts"), std::string::npos) << message;
   in.set_override("speed_m_s", "abc");
-  message = error_of([&] { in.number("speed_m_s", 0.3, 0.0, 2.0); });
+  message = message_of([&] { in.number("speed_m_s", 0.3, 0.0, 2.0); });
   EXPECT_NE(message.find("--set speed_m_s=abc"), std::string::npos) << message;
 }
 

@@ -31,7 +31,7 @@ monte_carlo:
   e_d_max_m: 0.01
 )";
 
-ScenarioText text(const std::string& body, const std::string& name = "suite.yaml") {
+ScenarioText suite_text(const std::string& body, const std::string& name = "suite.yaml") {
   ScenarioText t;
   t.text = body;
   t.name = name;
@@ -40,8 +40,9 @@ ScenarioText text(const std::string& body, const std::string& name = "suite.yaml
 }
 
 CompareSuite suite_of(const std::string& body) {
-  return load_suite(text(body), text(pipeline::builtin_files().at("default_scenario.yaml"),
-                                     "built-in default scenario"));
+  return load_suite(suite_text(body),
+                    suite_text(pipeline::builtin_files().at("default_scenario.yaml"),
+                               "built-in default scenario"));
 }
 
 std::string error_of(const std::string& body, bool plan = false) {
