@@ -5,6 +5,8 @@
 
 namespace agv {
 
+inline constexpr double kPi = std::numbers::pi;
+
 // Wraps an angle to (-pi, pi].
 inline double wrap_angle_rad(double angle_rad) {
   double wrapped = std::remainder(angle_rad, 2.0 * std::numbers::pi);

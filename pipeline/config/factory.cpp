@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/angles.h"
 #include "control/dwa_controller.h"
 #include "control/finite_step_controller.h"
 #include "control/pid_controller.h"
@@ -35,7 +36,7 @@ void add_floor_marks(const Scenario& s, Scene* scene) {
   if (m.seam_spacing_m > 0.0) {
     for (double x = std::ceil(lo.x() / m.seam_spacing_m) * m.seam_spacing_m; x <= hi.x();
          x += m.seam_spacing_m) {
-      strip({x, lo.y(), std::numbers::pi / 2}, hi.y() - lo.y(), m.seam_width_m, m.seam_darkness);
+      strip({x, lo.y(), kPi / 2}, hi.y() - lo.y(), m.seam_width_m, m.seam_darkness);
     }
     for (double y = std::ceil(lo.y() / m.seam_spacing_m) * m.seam_spacing_m; y <= hi.y();
          y += m.seam_spacing_m) {
@@ -45,8 +46,7 @@ void add_floor_marks(const Scenario& s, Scene* scene) {
   cv::RNG rng(s.seed * 7777 + 5);
   const int count = static_cast<int>(m.marks_per_m2 * (hi - lo).prod());
   for (int i = 0; i < count; ++i) {
-    strip({rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()),
-           rng.uniform(-std::numbers::pi, std::numbers::pi)},
+    strip({rng.uniform(lo.x(), hi.x()), rng.uniform(lo.y(), hi.y()), rng.uniform(-kPi, kPi)},
           rng.uniform(0.02, 0.1), rng.uniform(0.001, 0.004),
           m.mark_darkness * rng.uniform(0.5, 1.0));
   }

@@ -14,18 +14,16 @@ namespace agv::pipeline {
 namespace {
 
 constexpr double kJointTolerance_m = 1e-3;                 // a stated segment start may be 1 mm
-constexpr double kJointTolerance_rad =
-    std::numbers::pi / 180.0 / 2.0;  // and half a degree off the path's end
+constexpr double kJointTolerance_rad = kPi / 180.0 / 2.0;  // and half a degree off the path's end
 
 cv::Vec3d colour(const std::vector<double>& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
 std::vector<double> values(const cv::Vec3d& bgr) { return {bgr[0], bgr[1], bgr[2]}; }
 
 // A path under `prefix` ("path", "extra_tapes.0"): start pose and segments.
 control::Path read_path(YamlReader& in, const std::string& prefix) {
-  const Pose2 start{
-      in.number(prefix + ".start.x_m", 0.0, -1e4, 1e4),
-      in.number(prefix + ".start.y_m", 0.0, -1e4, 1e4),
-      in.number(prefix + ".start.heading_rad", 0.0, -2 * std::numbers::pi, 2 * std::numbers::pi)};
+  const Pose2 start{in.number(prefix + ".start.x_m", 0.0, -1e4, 1e4),
+                    in.number(prefix + ".start.y_m", 0.0, -1e4, 1e4),
+                    in.number(prefix + ".start.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
   control::Path path = control::Path::starting_at(start);
   const size_t count = in.sequence_size(prefix + ".segments");
   if (count == 0) return path.add_line(20.0);
@@ -33,10 +31,9 @@ control::Path read_path(YamlReader& in, const std::string& prefix) {
     const std::string key = prefix + ".segments." + std::to_string(i) + ".";
     // A segment may say where it starts: it must be where the path ends so far.
     if (in.has(key + "start")) {
-      const Pose2 stated{
-          in.number(key + "start.x_m", 0.0, -1e4, 1e4),
-          in.number(key + "start.y_m", 0.0, -1e4, 1e4),
-          in.number(key + "start.heading_rad", 0.0, -2 * std::numbers::pi, 2 * std::numbers::pi)};
+      const Pose2 stated{in.number(key + "start.x_m", 0.0, -1e4, 1e4),
+                         in.number(key + "start.y_m", 0.0, -1e4, 1e4),
+                         in.number(key + "start.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
       const Pose2 end = path.end_pose();
       const double gap_m = (stated.translation() - end.translation()).norm();
       const double kink_rad = std::abs(wrap_angle_rad(stated.yaw_rad - end.yaw_rad));
@@ -54,20 +51,17 @@ control::Path read_path(YamlReader& in, const std::string& prefix) {
     if (kind == "line") {
       path.add_line(in.positive(key + "length_m", 1.0, 1e4));
     } else if (kind == "hermite") {
-      const Pose2 end{
-          in.number(key + "end.x_m", 0.0, -1e4, 1e4), in.number(key + "end.y_m", 0.0, -1e4, 1e4),
-          in.number(key + "end.heading_rad", 0.0, -2 * std::numbers::pi, 2 * std::numbers::pi)};
+      const Pose2 end{in.number(key + "end.x_m", 0.0, -1e4, 1e4),
+                      in.number(key + "end.y_m", 0.0, -1e4, 1e4),
+                      in.number(key + "end.heading_rad", 0.0, -2 * kPi, 2 * kPi)};
       if ((end.translation() - path.end_pose().translation()).norm() < 1e-4)
         throw InputError(in.origin(key + "end") + ": key '" + key +
                          "end': must lie away from the segment's start (zero-length segment)");
       path.add_hermite_to(end);
     } else {
       const double radius_m = in.positive(key + "radius_m", 0.5, 1e4);
-      const double limit_rad = kind == "arc"
-                                   ? 2 * std::numbers::pi
-                                   : std::numbers::pi / 2 + 1e-6;  // seed 004 S1: <= 90 deg
-      const double angle_rad =
-          in.number(key + "angle_rad", std::numbers::pi / 2, -limit_rad, limit_rad);
+      const double limit_rad = kind == "arc" ? 2 * kPi : kPi / 2 + 1e-6;  // seed 004 S1: <= 90 deg
+      const double angle_rad = in.number(key + "angle_rad", kPi / 2, -limit_rad, limit_rad);
       if (angle_rad == 0.0)
         throw InputError(in.origin(key + "angle_rad") + ": key '" + key +
                          "angle_rad': must not be 0");
@@ -142,8 +136,8 @@ void read_run(YamlReader& in, Scenario* s) {
   s->seed = static_cast<std::uint64_t>(in.integer("seed", 1, 0, 2147483647));
   s->path_speed_m_s = in.number("path_speed_m_s", s->path_speed_m_s, 0.0, 5.0);
   s->latency_frames = in.integer("latency_frames", s->latency_frames, 0, 50);
-  s->initial_e_theta_rad = in.number("initial_error.e_theta_rad", s->initial_e_theta_rad,
-                                     -std::numbers::pi / 2, std::numbers::pi / 2);
+  s->initial_e_theta_rad =
+      in.number("initial_error.e_theta_rad", s->initial_e_theta_rad, -kPi / 2, kPi / 2);
   s->initial_e_d_m = in.number("initial_error.e_d_m", s->initial_e_d_m, -0.5, 0.5);
   s->path = read_path(in, "path");
   for (size_t i = 0; i < in.sequence_size("extra_tapes"); ++i) {
@@ -194,13 +188,12 @@ void read_image_effects(YamlReader& in, ImageEffects* fx) {
   fx->vignetting = in.number("image.vignetting", fx->vignetting, 0.0, 0.95);
   fx->illumination_gradient =
       in.number("image.illumination_gradient", fx->illumination_gradient, 0.0, 1.5);
-  fx->illumination_direction_rad =
-      in.number("image.illumination_direction_rad", fx->illumination_direction_rad,
-                -2 * std::numbers::pi, 2 * std::numbers::pi);
+  fx->illumination_direction_rad = in.number("image.illumination_direction_rad",
+                                             fx->illumination_direction_rad, -2 * kPi, 2 * kPi);
   fx->brightness = in.number("image.brightness", fx->brightness, 0.05, 4.0);
   fx->shadow_darkness = in.number("image.shadow.darkness", fx->shadow_darkness, 0.0, 0.95);
-  fx->shadow_direction_rad = in.number("image.shadow.direction_rad", fx->shadow_direction_rad,
-                                       -2 * std::numbers::pi, 2 * std::numbers::pi);
+  fx->shadow_direction_rad =
+      in.number("image.shadow.direction_rad", fx->shadow_direction_rad, -2 * kPi, 2 * kPi);
   fx->shadow_offset = in.number("image.shadow.offset", fx->shadow_offset, -1.5, 1.5);
   fx->shadow_softness = in.number("image.shadow.softness", fx->shadow_softness, 0.001, 1.0);
   fx->specular_strength = in.number("image.specular.strength", fx->specular_strength, 0.0, 255.0);
@@ -297,7 +290,7 @@ control::DualSteerGeometry read_dual_steer(YamlReader& in) {
   const std::string k = "vehicle.dual_steer.";
   d.form = in.choice(k + "drive_form", d.form, kDriveFormWords);
   d.wheelbase_m = in.positive(k + "wheelbase_m", d.wheelbase_m, 20.0);
-  d.max_steer_rad = in.positive(k + "max_steer_rad", d.max_steer_rad, std::numbers::pi / 2 + 1e-9);
+  d.max_steer_rad = in.positive(k + "max_steer_rad", d.max_steer_rad, kPi / 2 + 1e-9);
   d.max_steer_rate_rad_s = in.positive(k + "max_steer_rate_rad_s", d.max_steer_rate_rad_s, 100.0);
   d.max_wheel_speed_m_s = in.positive(k + "max_wheel_speed_m_s", d.max_wheel_speed_m_s, 20.0);
   return d;

@@ -46,7 +46,7 @@ Draw draw_condition(cv::RNG& rng, bool with_tape, std::uint64_t seed) {
   if (d.curved) {
     // A long arc through the origin's neighbourhood, turning either way.
     d.radius_m = std::exp(rng.uniform(std::log(0.3), std::log(3.0)));
-    const double sweep = std::min(1.9 * std::numbers::pi, 4.0 / d.radius_m);
+    const double sweep = std::min(1.9 * kPi, 4.0 / d.radius_m);
     const double turn = rng.uniform(0.0, 1.0) < 0.5 ? 1.0 : -1.0;
     tape.path = control::Path::starting_at({-0.5 * sweep * d.radius_m, 0.0, 0.0})
                     .add_arc(d.radius_m, turn * sweep);
@@ -131,8 +131,7 @@ DrawnPose draw_pose(cv::RNG& rng, const control::Path& path, bool with_tape) {
   const Eigen::Vector2d foot =
       with_tape ? path.point_at(s)
                 : Eigen::Vector2d(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
-  const double heading =
-      with_tape ? path.heading_at(s) : rng.uniform(-std::numbers::pi, std::numbers::pi);
+  const double heading = with_tape ? path.heading_at(s) : rng.uniform(-kPi, kPi);
   const Eigen::Vector2d p = foot + e_d * Eigen::Vector2d(-std::sin(heading), std::cos(heading));
   const Pose2 pose{p.x(), p.y(), wrap_angle_rad(heading + e_theta)};
   const BodyTwist twist{rng.uniform(0.0, 1.0), rng.uniform(-0.05, 0.05), rng.uniform(-0.2, 0.2)};

@@ -6,19 +6,16 @@
 #include "common/angles.h"
 
 namespace agv::pipeline {
-namespace {}  // namespace
 
 RandomCamera draw_camera(cv::RNG& rng) {
   perception::CameraIntrinsics in;
   in.distortion = {rng.uniform(-0.15, 0.0), rng.uniform(0.0, 0.05), 0.0, 0.0, 0.0};
   const double height = rng.uniform(0.12, 0.25);
-  const double tilt = deg_to_rad(rng.uniform(0.0, 10.0)),
-               tilt_direction = rng.uniform(-std::numbers::pi, std::numbers::pi);
+  const double tilt = deg_to_rad(rng.uniform(0.0, 10.0)), tilt_direction = rng.uniform(-kPi, kPi);
   perception::MountPose mount;
   mount.xyz_m = {rng.uniform(0.25, 0.35), rng.uniform(-0.03, 0.03), height};
-  mount.rpy_rad = {std::numbers::pi + tilt * std::sin(tilt_direction),
-                   tilt * std::cos(tilt_direction),
-                   -std::numbers::pi / 2 + deg_to_rad(rng.uniform(-10.0, 10.0))};
+  mount.rpy_rad = {kPi + tilt * std::sin(tilt_direction), tilt * std::cos(tilt_direction),
+                   -kPi / 2 + deg_to_rad(rng.uniform(-10.0, 10.0))};
   return {perception::CameraModel(in, mount), height, tilt};
 }
 
@@ -34,11 +31,11 @@ bool draw_floor_and_light(cv::RNG& rng, Scene* scene) {
   fx.exposure_s = rng.uniform(0.0, 0.008);
   fx.vignetting = rng.uniform(0.0, 0.35);
   fx.illumination_gradient = rng.uniform(0.0, 0.4);
-  fx.illumination_direction_rad = rng.uniform(-std::numbers::pi, std::numbers::pi);
+  fx.illumination_direction_rad = rng.uniform(-kPi, kPi);
   fx.brightness = rng.uniform(0.6, 1.3);
   if (rng.uniform(0.0, 1.0) < 0.3) {
     fx.shadow_darkness = rng.uniform(0.2, 0.5);
-    fx.shadow_direction_rad = rng.uniform(-std::numbers::pi, std::numbers::pi);
+    fx.shadow_direction_rad = rng.uniform(-kPi, kPi);
     fx.shadow_offset = rng.uniform(-0.3, 0.6);
     fx.shadow_softness = rng.uniform(0.01, 0.1);
   }

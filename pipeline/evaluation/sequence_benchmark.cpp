@@ -104,7 +104,7 @@ const std::string& piece_at(const PiecedPath& p, double s_m) {
 // The vehicle's pose at arc length s: weaving about the path by amplitude_m over wavelength_m.
 Pose2 weaving_pose(const control::Path& path, double s_m, double amplitude_m, double wavelength_m,
                    double phase_rad) {
-  const double k = 2.0 * std::numbers::pi / wavelength_m;
+  const double k = 2.0 * kPi / wavelength_m;
   const double e_d = amplitude_m * std::sin(k * s_m + phase_rad);
   const double slope = amplitude_m * k * std::cos(k * s_m + phase_rad);
   const double heading = path.heading_at(s_m);
@@ -138,7 +138,7 @@ void run_sequence(cv::RNG& rng, const SequenceBenchmarkOptions& options, int ind
   if (rng.uniform(0.0, 1.0) < 0.5) perception.tape.color_bgr = tape.color_bgr;
   perception.branch = drawn.choice;
   const double amplitude_m = rng.uniform(0.0, 0.005), wavelength_m = rng.uniform(0.8, 1.6);
-  const double phase_rad = rng.uniform(-std::numbers::pi, std::numbers::pi);
+  const double phase_rad = rng.uniform(-kPi, kPi);
 
   // Without tape the vehicle drives a straight 1 m far from the only tape.
   const double length_m = with_tape ? options.path_length_m : 1.0;
@@ -249,7 +249,7 @@ nlohmann::json summarise(const SequenceBenchmarkResult& result,
       continue;
     }
     ++found;
-    if (std::abs(f.error_e_theta_rad) > std::numbers::pi / 2) ++flips;
+    if (std::abs(f.error_e_theta_rad) > kPi / 2) ++flips;
     if (f.travelled_m < options.warm_up_m) continue;
     extrapolated += f.extrapolated ? 1 : 0;
     remembered_only += f.remembered_only ? 1 : 0;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/angles.h"
+
 namespace agv::control {
 namespace {
 
@@ -39,7 +41,7 @@ TEST(DualSteerKinematics, BothSteerTurningHandValues) {
   EXPECT_NEAR(back.wz_rad_s, 0.2, 1e-12);
   // Crabbing sideways and backwards: both wheels point the same way, reversed past 90 deg.
   const DualSteerWheels crab = dual_steer_inverse(g, {-0.3, 0.3, 0.0});
-  EXPECT_NEAR(crab.front_steer_rad, -std::numbers::pi / 4, 1e-12);
+  EXPECT_NEAR(crab.front_steer_rad, -kPi / 4, 1e-12);
   EXPECT_NEAR(crab.front_speed_m_s, -std::sqrt(0.18), 1e-12);
   const BodyTwist crab_back = dual_steer_forward(g, crab);
   EXPECT_NEAR(crab_back.vx_m_s, -0.3, 1e-12);

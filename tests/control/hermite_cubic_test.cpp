@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/angles.h"
 #include "control/path.h"
 
 namespace agv::control {
@@ -39,8 +40,8 @@ TEST(HermiteCubic, BasisMeetsItsEndConditions) {
 // Seed 004 S1: each piece matches the exact arc's position and derivative at both ends.
 TEST(HermiteCubic, ArcPiecesMatchTheArcAtTheirEnds) {
   for (int m : {1, 2, 3, 4}) {
-    const double piece_rad = (std::numbers::pi / 2) / m;
-    const auto pieces = hermite_arc_pieces(kStart, kRadius, std::numbers::pi / 2, m);
+    const double piece_rad = (kPi / 2) / m;
+    const auto pieces = hermite_arc_pieces(kStart, kRadius, kPi / 2, m);
     ASSERT_EQ(static_cast<int>(pieces.size()), m);
     for (int i = 0; i < m; ++i) {
       for (int end = 0; end <= 1; ++end) {
@@ -60,8 +61,8 @@ TEST(HermiteCubic, ArcPiecesMatchTheArcAtTheirEnds) {
 TEST(HermiteCubic, DeviationFromTheArcWithinTheDerivedBound) {
   double previous_m = 0.0;
   for (int m : {1, 2, 4}) {
-    const double piece_rad = (std::numbers::pi / 2) / m;
-    const auto pieces = hermite_arc_pieces(kStart, kRadius, std::numbers::pi / 2, m);
+    const double piece_rad = (kPi / 2) / m;
+    const auto pieces = hermite_arc_pieces(kStart, kRadius, kPi / 2, m);
     double worst_m = 0.0, worst_radial_m = 0.0;
     for (int i = 0; i < m; ++i) {
       for (int k = 0; k <= 200; ++k) {
@@ -83,18 +84,16 @@ TEST(HermiteCubic, DeviationFromTheArcWithinTheDerivedBound) {
     previous_m = worst_m;
   }
   // The bound itself for a quarter turn of 0.5 m in one piece: 0.5 (pi/2)^4 / 384 = 7.93 mm.
-  EXPECT_NEAR(hermite_arc_deviation_bound_m(0.5, std::numbers::pi / 2), 7.927e-3, 1e-6);
+  EXPECT_NEAR(hermite_arc_deviation_bound_m(0.5, kPi / 2), 7.927e-3, 1e-6);
 }
 
 // A path built from Hermite pieces: length and foot points close to the exact arc's.
 TEST(HermiteCubic, PathOfHermitePiecesProjectsLikeTheArc) {
-  const Path exact = Path::starting_at({0.0, 0.0, 0.0})
-                         .add_line(1.0)
-                         .add_arc(0.5, std::numbers::pi / 2)
-                         .add_line(1.0);
+  const Path exact =
+      Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.5, kPi / 2).add_line(1.0);
   const Path hermite = Path::starting_at({0.0, 0.0, 0.0})
                            .add_line(1.0)
-                           .add_hermite_arc(0.5, std::numbers::pi / 2, 4)
+                           .add_hermite_arc(0.5, kPi / 2, 4)
                            .add_line(1.0);
   ASSERT_EQ(hermite.segments().size(), 6u);
   // Four pieces of 22.5 deg: bound 0.5 * 0.3927^4 / 384 = 0.031 mm on position, so the
@@ -112,7 +111,7 @@ TEST(HermiteCubic, PathOfHermitePiecesProjectsLikeTheArc) {
   // Point (1.2, 0.3), worked by hand on the exact arc: 0.2828 m from the centre (1, 0.5) at
   // -45 deg, so s = 1 + 0.5 pi/4 and lateral = 0.5 - 0.2828 (inside a left turn: left).
   const PathProjection p = hermite.project({1.2, 0.3});
-  EXPECT_NEAR(p.s_m, 1.0 + 0.125 * std::numbers::pi, 2e-4);
+  EXPECT_NEAR(p.s_m, 1.0 + 0.125 * kPi, 2e-4);
   EXPECT_NEAR(p.lateral_m, 0.5 - std::sqrt(0.08), 1e-4);
   // Arc length and point agree: walking along s reaches the points of the curve.
   for (double s = 0.0; s <= hermite.length_m(); s += 0.05) {
@@ -124,11 +123,11 @@ TEST(HermiteCubic, PathOfHermitePiecesProjectsLikeTheArc) {
 
 TEST(HermiteCubic, GeneralPieceToAnEndPose) {
   Path path = Path::starting_at({0.0, 0.0, 0.0});
-  path.add_hermite_to({1.0, 0.5, std::numbers::pi / 2});
+  path.add_hermite_to({1.0, 0.5, kPi / 2});
   const Pose2 end = path.end_pose();
   EXPECT_NEAR(end.x_m, 1.0, 1e-12);
   EXPECT_NEAR(end.y_m, 0.5, 1e-12);
-  EXPECT_NEAR(end.yaw_rad, std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(end.yaw_rad, kPi / 2, 1e-12);
   EXPECT_NEAR(path.heading_at(0.0), 0.0, 1e-12);
   EXPECT_GT(path.curvature_at(0.5 * path.length_m()), 0.0);  // turns left
   // Longer than the chord, shorter than the two legs of the box around it.

@@ -6,30 +6,29 @@
 #include <numbers>
 #include <vector>
 
+#include "common/angles.h"
+
 namespace agv::control {
 namespace {
 
 // Line along +x from the origin, then a left quarter circle of radius 0.5 around (1.0, 0.5),
 // then a line along +y from (1.5, 0.5).
 Path l_turn() {
-  return Path::starting_at({0.0, 0.0, 0.0})
-      .add_line(1.0)
-      .add_arc(0.5, std::numbers::pi / 2)
-      .add_line(1.0);
+  return Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.5, kPi / 2).add_line(1.0);
 }
 
 TEST(Path, GeometryOfLineArcLine) {
   const Path path = l_turn();
-  EXPECT_NEAR(path.length_m(), 2.0 + 0.5 * std::numbers::pi / 2, 1e-12);
-  const Eigen::Vector2d end_of_arc = path.point_at(1.0 + 0.25 * std::numbers::pi);
+  EXPECT_NEAR(path.length_m(), 2.0 + 0.5 * kPi / 2, 1e-12);
+  const Eigen::Vector2d end_of_arc = path.point_at(1.0 + 0.25 * kPi);
   EXPECT_NEAR(end_of_arc.x(), 1.5, 1e-12);
   EXPECT_NEAR(end_of_arc.y(), 0.5, 1e-12);
-  EXPECT_NEAR(path.heading_at(1.0 + 0.25 * std::numbers::pi), std::numbers::pi / 2, 1e-12);
+  EXPECT_NEAR(path.heading_at(1.0 + 0.25 * kPi), kPi / 2, 1e-12);
   EXPECT_NEAR(path.curvature_at(1.2), 2.0, 1e-12);
   // Half-way round the arc: 45 deg from the centre (1.0, 0.5).
-  const Eigen::Vector2d mid = path.point_at(1.0 + 0.125 * std::numbers::pi);
-  EXPECT_NEAR(mid.x(), 1.0 + 0.5 * std::sin(std::numbers::pi / 4), 1e-12);
-  EXPECT_NEAR(mid.y(), 0.5 - 0.5 * std::cos(std::numbers::pi / 4), 1e-12);
+  const Eigen::Vector2d mid = path.point_at(1.0 + 0.125 * kPi);
+  EXPECT_NEAR(mid.x(), 1.0 + 0.5 * std::sin(kPi / 4), 1e-12);
+  EXPECT_NEAR(mid.y(), 0.5 - 0.5 * std::cos(kPi / 4), 1e-12);
 }
 
 // Foot points worked by hand; lateral is positive on the left of the travel direction.
@@ -42,11 +41,10 @@ TEST(Path, FootPointsOnLinesAndArcs) {
   EXPECT_NEAR(p.lateral_m, -0.02, 1e-12);
   // Inside the arc (towards the centre) is the left of a left turn: lateral > 0.
   const Eigen::Vector2d centre(1.0, 0.5);
-  p = path.project(centre + 0.45 * Eigen::Vector2d(std::sin(std::numbers::pi / 6),
-                                                   -std::cos(std::numbers::pi / 6)));
-  EXPECT_NEAR(p.s_m, 1.0 + 0.5 * std::numbers::pi / 6, 1e-12);
+  p = path.project(centre + 0.45 * Eigen::Vector2d(std::sin(kPi / 6), -std::cos(kPi / 6)));
+  EXPECT_NEAR(p.s_m, 1.0 + 0.5 * kPi / 6, 1e-12);
   EXPECT_NEAR(p.lateral_m, 0.05, 1e-12);
-  EXPECT_NEAR(p.heading_rad, std::numbers::pi / 6, 1e-12);
+  EXPECT_NEAR(p.heading_rad, kPi / 6, 1e-12);
   EXPECT_EQ(p.segment, 1);
   // Near the joint of the first line and the arc, just before and just after.
   p = path.project({0.999, -0.01});
@@ -75,8 +73,8 @@ TEST(Path, PointsBeyondTheEnds) {
 TEST(Path, ProjectionIsTheNearestPointOfDenseSamples) {
   const Path path = Path::starting_at({0.2, -0.1, 0.3})
                         .add_line(0.5)
-                        .add_arc(0.4, std::numbers::pi / 3)
-                        .add_arc(0.25, -std::numbers::pi / 2)
+                        .add_arc(0.4, kPi / 3)
+                        .add_arc(0.25, -kPi / 2)
                         .add_hermite_to({1.6, 0.2, -0.4})
                         .add_line(0.3);
   std::vector<Eigen::Vector2d> samples;
@@ -107,7 +105,7 @@ TEST(Path, ProjectionIsTheNearestPointOfDenseSamples) {
 // The hint keeps the foot point on the piece the vehicle is on where the path passes near itself.
 TEST(Path, HintKeepsTheFootLocal) {
   const Path loop =
-      Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.1, std::numbers::pi).add_line(1.0);
+      Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.1, kPi).add_line(1.0);
   // (0.5, 0.09) is 0.09 from the first line and 0.11 from the return line.
   EXPECT_EQ(loop.project({0.5, 0.11}).segment, 2);
   EXPECT_EQ(loop.project({0.5, 0.11}, 0.5, 0.3).segment, 0);
@@ -115,9 +113,8 @@ TEST(Path, HintKeepsTheFootLocal) {
 
 // DESIGN.md: e_theta = vehicle yaw - path heading (CCW positive); e_d > 0 left of the path.
 TEST(Path, TrackingErrorSigns) {
-  const Path path = Path::starting_at({0.0, 0.0, std::numbers::pi / 2}).add_line(2.0);  // along +y
-  const Pose2 vehicle{-0.01, 1.0,
-                      std::numbers::pi / 2 + 0.1};  // x = -0.01 is left of travel along +y
+  const Path path = Path::starting_at({0.0, 0.0, kPi / 2}).add_line(2.0);  // along +y
+  const Pose2 vehicle{-0.01, 1.0, kPi / 2 + 0.1};  // x = -0.01 is left of travel along +y
   const TrackingError e = path.tracking_error(vehicle, path.project(vehicle.translation()));
   EXPECT_NEAR(e.e_theta_rad, 0.1, 1e-12);
   EXPECT_NEAR(e.e_d_m, 0.01, 1e-12);

@@ -8,6 +8,7 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "common/angles.h"
 #include "perception/camera_file.h"
 #include "support/test_scenes.h"
 
@@ -26,7 +27,7 @@ TEST(MountPose, DesignWorkedExample) {
 TEST(MountPose, RollPitchYawRoundTrip) {
   for (const Eigen::Vector3d& rpy :
        {Eigen::Vector3d(3.0, 0.1, -1.5), Eigen::Vector3d(-2.9, -0.3, 0.4),
-        Eigen::Vector3d(std::numbers::pi, 0.05, -std::numbers::pi / 2 + 0.05)}) {
+        Eigen::Vector3d(kPi, 0.05, -kPi / 2 + 0.05)}) {
     MountPose mount;
     mount.rpy_rad = rpy;
     const MountPose back = MountPose::from_rotation(mount.xyz_m, mount.rotation());

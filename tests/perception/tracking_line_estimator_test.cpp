@@ -81,8 +81,7 @@ TEST(TrackingLineEstimator, AsAccurateAsTheFullSearchOnStraightAndCurvedSequence
   EXPECT_GE(a.counts.tracked, 45);
 
   pipeline::Scene arc = testing::straight_tape_scene();
-  arc.tapes[0].path =
-      control::Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.6, std::numbers::pi);
+  arc.tapes[0].path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(1.0).add_arc(0.6, kPi);
   const SequenceResult b = drive(camera, arc, 1.3, 40);
   EXPECT_EQ(b.found, b.frames);
   EXPECT_EQ(b.found_by_full_search, b.frames);
@@ -131,7 +130,7 @@ TEST(TrackingLineEstimator, ACrossingTapeDoesNotCaptureTheTrackedLine) {
   const CameraModel camera(testing::default_intrinsics(), testing::straight_down_mount());
   pipeline::Scene scene = testing::straight_tape_scene();
   pipeline::TapeStrip crossing = scene.tapes[0];
-  crossing.path = control::Path::starting_at({2.5, -1.0, std::numbers::pi / 2}).add_line(2.0);
+  crossing.path = control::Path::starting_at({2.5, -1.0, kPi / 2}).add_line(2.0);
   scene.tapes.push_back(crossing);
   const pipeline::FrameRenderer renderer(camera, scene);
   TrackingLineEstimator tracking(camera, testing::hinted(scene));
