@@ -71,8 +71,8 @@ MUTATIONS = [
      "camera_options.latency_s = (s.latency_frames - 1) * frame_period_s;",
      ["pipeline_tests", "pipeline_loop_tests"]),
     ("tape regions: one edge counts as a bar", "perception/tape_regions.cpp",
-     "out[x] = c[x] - std::max(f[std::max(0, x - offset)]",
-     "out[x] = c[x] - std::min(f[std::max(0, x - offset)]", ["perception_tests"]),
+     "out[x] = c[x] - std::max(before[x], after[x]);",
+     "out[x] = c[x] - std::min(before[x], after[x]);", ["perception_tests"]),
     ("hough baseline: centre from one edge", "perception/hough_baseline.cpp",
      "const double centre_offset_m = 0.5 * (lo + hi);",
      "const double centre_offset_m = lo;", ["perception_tests"]),
@@ -83,9 +83,10 @@ MUTATIONS = [
     ("plant: sideways motion ignored while turning", "common/twist_motion.h",
      "dx = (twist.vx_m_s * s + twist.vy_m_s * (c - 1.0)) / twist.wz_rad_s;",
      "dx = (twist.vx_m_s * s) / twist.wz_rad_s;", ["pipeline_tests", "control_tests"]),
-    ("plant: actuator lag skipped within a period", "pipeline/sim/plant.cpp",
+    ("plant: actuator lag skipped within a period", "control/drive_response.h",
      "const double mean = target + (state - target) * (1.0 - mean_gain);",
-     "const double mean = target + 0.0 * mean_gain * (state - target);", ["pipeline_tests"]),
+     "const double mean = target + 0.0 * mean_gain * (state - target);",
+     ["control_tests", "pipeline_tests"]),
 ]
 
 
