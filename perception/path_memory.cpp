@@ -146,6 +146,31 @@ class EvidenceIndex {
   std::vector<size_t> near_;
 };
 
+// One frame's evidence no denser than radius_m: each run of consecutive points (the scans'
+// order, along the tape) that stay within radius_m of the run's first point becomes their mean,
+// counting as that many observations.
+struct WeightedPoint {
+  Eigen::Vector2d p;
+  int count;
+};
+std::vector<WeightedPoint> thinned(const std::vector<Eigen::Vector2d>& points, double radius_m) {
+  std::vector<WeightedPoint> runs;
+  Eigen::Vector2d first = Eigen::Vector2d::Zero(), sum = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (const Eigen::Vector2d& p : points) {
+    if (count > 0 && (p - first).squaredNorm() <= radius_m * radius_m) {
+      sum += p;
+      ++count;
+      continue;
+    }
+    if (count > 0) runs.push_back({sum / count, count});
+    first = sum = p;
+    count = 1;
+  }
+  if (count > 0) runs.push_back({sum / count, count});
+  return runs;
+}
+
 // Tolerances that scale with the tape's width use at least this width (narrower tapes).
 constexpr double kNarrowTape_m = 0.01;
 
@@ -939,21 +964,29 @@ void PathMemory::add_evidence(const std::vector<Eigen::Vector2d>& evidence,
   const std::vector<Eigen::Vector2d>& remembered = options_.fuse_m > 0.0 ? *in_vehicle : none;
   const PointGrid grid(remembered,
                        PointGrid::dense_cell_m(remembered, std::max(options_.fuse_m, 1e-3), 0.0));
-  for (const Eigen::Vector2d& centre : evidence) {
+  // This frame's evidence first thinned to half the fusing distance: a full search scans every
+  // row, and its evidence, 0.4 mm apart, added some 60 points a few centimetres long that the
+  // later frames' evidence, 3 mm apart, left alone (agv bench: 312 points remembered, 223 thinned,
+  // 194 with tracked frames only; the memory 67 -> 54 us a frame). Thinned to the whole fusing
+  // distance, agv evaluate seeds 1-8 read 0.743 deg RMS, not 0.554 (two frames 16-24 mm off at
+  // a fork); to half of it 0.545.
+  for (const WeightedPoint& cluster : thinned(evidence, 0.5 * options_.fuse_m)) {
+    const Eigen::Vector2d& centre = cluster.p;
+    const int count = std::min(cluster.count, options_.fuse_max_observations);
     const size_t nearest = grid.nearest_index(*in_vehicle, centre, options_.fuse_m);
     if (nearest == PointGrid::kNone) {
-      points_.push_back({to_memory(centre), frame_, odometer_m_});
+      points_.push_back({to_memory(centre), frame_, odometer_m_, count});
       in_vehicle->push_back(centre);
       continue;
     }
     Point& point = points_[nearest];
     Eigen::Vector2d& p = (*in_vehicle)[nearest];
     const double n = point.observations;
-    p = (n * p + centre) / (n + 1.0);
+    p = (n * p + count * centre) / (n + count);
     point.p = to_memory(p);
     point.frame = frame_;
     point.seen_at_m = odometer_m_;
-    point.observations = std::min(point.observations + 1, options_.fuse_max_observations);
+    point.observations = std::min(point.observations + count, options_.fuse_max_observations);
   }
 }
 
