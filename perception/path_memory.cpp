@@ -123,9 +123,14 @@ class EvidenceIndex {
     Eigen::Matrix2d ata;
     ata << static_cast<double>(near.size()), st, st, stt;
     const Eigen::Vector2d aty(sn, stn);
+    // Solved where the points spread along t: the reciprocal condition number of the symmetric
+    // 2 x 2 matrix in the 1-norm, |det| / (largest column sum)^2, worked out exactly (Eigen's
+    // LDLT::rcond() estimates it by iterations: 6 % of the memory's time).
+    const double column_sum =
+        std::max(std::abs(ata(0, 0)), std::abs(ata(1, 1))) + std::abs(ata(0, 1));
+    const double rcond = std::abs(ata.determinant()) / (column_sum * column_sum);
     const Eigen::LDLT<Eigen::Matrix2d> ldlt(ata);
-    if (ldlt.info() == Eigen::Success && ldlt.rcond() > 1e-9)
-      course.n_of_t.head<2>() = ldlt.solve(aty);
+    if (ldlt.info() == Eigen::Success && rcond > 1e-9) course.n_of_t.head<2>() = ldlt.solve(aty);
     return course;
   }
 
