@@ -132,6 +132,46 @@ float half_way_level(const std::vector<float>& profile, float e) {
   return sum / (2 * kEdgeNear);
 }
 
+// The index of the first largest of samples [lo, hi] (std::max_element's answer): the largest
+// value first, over four interleaved running maxima (std::max_element's one running comparison
+// waited on itself at every sample: a fifth of find_profile_edges' time), then its first place.
+// The profile holds no NaN (pixel levels through a finite axis).
+int first_largest(const std::vector<float>& profile, int lo, int hi) {
+  const float* p = profile.data();
+  float m[4] = {p[lo], p[lo], p[lo], p[lo]};
+  int i = lo;
+  for (; i + 3 <= hi; i += 4)
+    for (int k = 0; k < 4; ++k) m[k] = p[i + k] > m[k] ? p[i + k] : m[k];
+  for (; i <= hi; ++i) m[0] = p[i] > m[0] ? p[i] : m[0];
+  const float largest = std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+  int first = lo;
+  while (p[first] != largest) ++first;
+  return first;
+}
+
+// Sum and count of samples [lo, hi] above `level`, in four interleaved partial sums (one sum
+// waited on its own addition at every sample); the sum's rounding differs from the sum in order
+// by a few parts in 10^7 of the tape's level.
+std::pair<float, int> sum_above(const std::vector<float>& profile, int lo, int hi, float level) {
+  const float* p = profile.data();
+  float sums[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  int counts[4] = {0, 0, 0, 0};
+  int i = lo;
+  for (; i + 3 <= hi; i += 4) {
+    for (int k = 0; k < 4; ++k) {
+      const bool above = p[i + k] > level;
+      sums[k] += above ? p[i + k] : 0.0f;
+      counts[k] += above;
+    }
+  }
+  for (; i <= hi; ++i) {
+    const bool above = p[i] > level;
+    sums[0] += above ? p[i] : 0.0f;
+    counts[0] += above;
+  }
+  return {(sums[0] + sums[1]) + (sums[2] + sums[3]), counts[0] + counts[1] + counts[2] + counts[3]};
+}
+
 // The medians of a profile window's outermost `side` samples at each end.
 struct WindowEnds {
   float first, second;
@@ -158,20 +198,13 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
                                                float min_contrast, const WindowEnds& ends) {
   const int count = static_cast<int>(profile.size());
   const float floor_first = ends.first, floor_second = ends.second;
-  const int peak = static_cast<int>(
-      std::max_element(profile.begin() + run_lo, profile.begin() + run_hi + 1) - profile.begin());
+  const int peak = first_largest(profile, run_lo, run_hi);
   // Tape level: mean of the samples in the upper half between floor and peak. It sets the
   // threshold of both edges alike, so its error moves them apart or together and leaves
   // their midpoint, the centre line, where it is: a mean is precise enough.
   const float floor_level = 0.5f * (floor_first + floor_second);
   const float upper = 0.5f * (floor_level + profile[peak]);
-  float tape_sum = 0.0f;
-  int tape_count = 0;
-  for (int i = run_lo; i <= run_hi; ++i) {
-    if (profile[i] <= upper) continue;
-    tape_sum += profile[i];
-    ++tape_count;
-  }
+  const auto [tape_sum, tape_count] = sum_above(profile, run_lo, run_hi, upper);
   const float tape_level = tape_sum / std::max(1, tape_count);
   const float contrast = tape_level - floor_level;
   if (contrast < min_contrast) return std::nullopt;
