@@ -134,8 +134,8 @@ float half_way_level(const std::vector<float>& profile, float e) {
 
 // The index of the first largest of samples [lo, hi] (std::max_element's answer): the largest
 // value first, over four interleaved running maxima (std::max_element's one running comparison
-// waited on itself at every sample: a fifth of find_profile_edges' time), then its first place.
-// The profile holds no NaN (pixel levels through a finite axis).
+// waits on itself at every sample), then its first place. With the partial sums below, about
+// 1.5 us of a tracked frame's 100. The profile holds no NaN (pixel levels through a finite axis).
 int first_largest(const std::vector<float>& profile, int lo, int hi) {
   const float* p = profile.data();
   float m[4] = {p[lo], p[lo], p[lo], p[lo]};
