@@ -77,7 +77,9 @@ inline constexpr const char* kSparseEvidence = "evidence too sparse along the li
 
 // Up to max_lines lines through the chords' centres, found one after the other (the best
 // supported first), each checked for width, width consistency, length and straightness of
-// evidence. `rejections` (optional) receives why candidates were turned down.
+// evidence; of two readings of one tape (the curve of one runs within a tenth of a tape width of
+// the other's over all its evidence) the better supported is kept.
+// `rejections` (optional) receives why candidates were turned down.
 std::vector<DetectedLine> extract_lines(const std::vector<Chord>& chords,
                                         const LineSetOptions& options,
                                         std::vector<std::string>* rejections = nullptr);

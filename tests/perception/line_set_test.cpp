@@ -89,16 +89,10 @@ TEST(LineSet, WithoutAWidthOnlyATapesWidthIsALine) {
 namespace agv::perception {
 namespace {
 
-// The chords LineEstimator found in a frame of a tangential Y fork (data/tangential_fork: 39 mm
-// tape, the branch leaving to the right on R 0.46 m, its split mid-view). The branch, with the
-// stem's chords, is found first; the way straight on runs within a tape width of it over 0.2 m
-// of the view, and the branch's chords there do not speak against it: both ways are lines.
-// Before they were exempted, the way straight on was refused ("edge points do not lie on one
-// line") in 13 frames running and the branch followed for "straight".
-TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
-  std::ifstream file(std::string(AGV_SOURCE_DIR) +
-                     "/tests/perception/data/tangential_fork/chords.csv");
-  ASSERT_TRUE(file.good());
+// The chords of tests/perception/data/NAME/chords.csv (a_x,a_y,b_x,b_y a row).
+std::vector<Chord> chords_from(const std::string& name) {
+  std::ifstream file(std::string(AGV_SOURCE_DIR) + "/tests/perception/data/" + name +
+                     "/chords.csv");
   std::vector<Chord> chords;
   for (std::string row; std::getline(file, row);) {
     std::replace(row.begin(), row.end(), ',', ' ');
@@ -107,6 +101,17 @@ TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
     in >> chord.a.x() >> chord.a.y() >> chord.b.x() >> chord.b.y();
     chords.push_back(chord);
   }
+  return chords;
+}
+
+// The chords LineEstimator found in a frame of a tangential Y fork (data/tangential_fork: 39 mm
+// tape, the branch leaving to the right on R 0.46 m, its split mid-view). The branch, with the
+// stem's chords, is found first; the way straight on runs within a tape width of it over 0.2 m
+// of the view, and the branch's chords there do not speak against it: both ways are lines.
+// Before they were exempted, the way straight on was refused ("edge points do not lie on one
+// line") in 13 frames running and the branch followed for "straight".
+TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
+  const std::vector<Chord> chords = chords_from("tangential_fork");
   ASSERT_EQ(chords.size(), 896u);
   LineSetOptions options;  // as LineEstimator set them for this frame (no width configured)
   options.expected_width_m = 0.0;
@@ -124,6 +129,34 @@ TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
   }
   EXPECT_EQ(straight_on, 1) << lines.size() << " lines";
   EXPECT_EQ(branch, 1) << lines.size() << " lines";
+}
+
+// The chords of a frame past a Y fork of 62 mm tape (data/wide_fork_overlap: the branch leaving
+// the way straight on to the left on R 0.81 m, the legs overlapping near the vehicle). The
+// branch's chords read once as a line at about 30 deg and once more as an arc bent towards the
+// way straight on; the two readings crossed, a junction was found between them and the branch
+// followed for the way right (agv evaluate seed 12, sequence 3: 9 frames 38-51 mm off). One tape
+// is one line: the way straight on and the branch, nothing else.
+TEST(LineSet, AForksBranchReadTwiceIsOneLine) {
+  const std::vector<Chord> chords = chords_from("wide_fork_overlap");
+  ASSERT_EQ(chords.size(), 853u);
+  LineSetOptions options;  // as LineEstimator set them for this frame (no width configured)
+  options.expected_width_m = 0.0;
+  options.scan_spacing_m = 0.0006015;
+  options.fit.inlier_threshold_m = 0.003;
+  options.full_span_m = 0.2599;
+  const auto lines = extract_lines(chords, options);
+  int straight_on = 0, branch = 0;
+  for (const DetectedLine& line : lines) {
+    // The way straight on: the vehicle drives it within 2 mm and 1 deg.
+    if (std::abs(line.model.heading_rad) < 0.02 && std::abs(line.model.e_d_m) < 0.005)
+      ++straight_on;
+    // The branch, 0.4-0.6 m past its split on R 0.81 m: 20-40 deg from the way straight on.
+    if (line.model.heading_rad > 0.35 && line.model.heading_rad < 0.7) ++branch;
+  }
+  EXPECT_EQ(straight_on, 1) << lines.size() << " lines";
+  EXPECT_EQ(branch, 1) << lines.size() << " lines";
+  EXPECT_EQ(lines.size(), 2u);
 }
 
 }  // namespace
