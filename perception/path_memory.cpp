@@ -305,8 +305,8 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   // a joint; see EvidenceIndex), delta = (rotation about the origin, shift x, shift y). The shift
   // along a straight tape is not observable: a small ridge keeps it at 0.
   if (evidence.size() < 3) return;
-  Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
+  std::vector<RegistrationRow>& rows = registration_rows_;
+  rows.clear();
   int count = 0;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;  // the overlap's bounding box
@@ -321,10 +321,9 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
     Eigen::Vector2d normal;
     const double d = course.distance(p, &normal);
     if (std::abs(d) > options_.gate_m) continue;
-    const Eigen::Vector3d j(normal.dot(Eigen::Vector2d(-p.y(), p.x())), normal.x(), normal.y());
-    const double observations = points_[i].observations;
-    jtj += observations * j * j.transpose();
-    jtd += observations * j * d;
+    rows.push_back(
+        {Eigen::Vector3d(normal.dot(Eigen::Vector2d(-p.y(), p.x())), normal.x(), normal.y()), d,
+         static_cast<double>(points_[i].observations)});
     count += points_[i].observations;
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
@@ -332,12 +331,29 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   if (count < options_.min_overlap_points || (hi - lo).norm() < options_.min_overlap_span_m) return;
   // The most likely correction given the points (each good to point_sigma_m) and how far the
   // memory may be out of line: along a straight tape the points say nothing of the shift along
-  // it, and the prior keeps it where the odometry put it.
+  // it, and the prior keeps it where the odometry put it. Then twice more with Cauchy weights on
+  // the residuals the correction leaves (registration_residual_scale_m).
   const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
-  jtj *= point_weight;
-  jtd *= point_weight;
-  jtj += misalignment_cov_.inverse();
-  const Eigen::Vector3d delta = jtj.ldlt().solve(-jtd);
+  const double scale_m = options_.registration_residual_scale_m;
+  Eigen::Matrix3d jtj;
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+  for (int round = 0; round < (scale_m > 0.0 ? 3 : 1); ++round) {
+    jtj.setZero();
+    Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
+    for (const RegistrationRow& row : rows) {
+      double w = row.observations;
+      if (round > 0) {
+        const double r = (row.d + row.j.dot(delta)) / scale_m;
+        w /= 1.0 + r * r;
+      }
+      jtj += w * row.j * row.j.transpose();
+      jtd += w * row.j * row.d;
+    }
+    jtj *= point_weight;
+    jtd *= point_weight;
+    jtj += misalignment_cov_.inverse();
+    delta = jtj.ldlt().solve(-jtd);
+  }
   misalignment_cov_ = jtj.inverse();
   if (std::abs(delta[0]) > options_.max_correction_rad ||
       delta.tail<2>().norm() > options_.max_correction_m) {

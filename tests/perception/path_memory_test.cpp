@@ -126,10 +126,11 @@ TEST(PathMemory, ErrorsAtTheVehicleFromTheRememberedTape) {
 // odometry. Fused (fuse_m 2 mm), the memory holds each stretch of tape about once: under 250
 // points (chords every 4 mm over the 0.7 m it keeps; as the frames came, 26 layers and more:
 // over 2500). It reads the offset at the vehicle as well as the frames kept as they came (RMS
-// within 10 % of theirs; measured 0.137 against 0.141 mm, which is the registration following
-// each frame's bias), the heading a little worse (within 1.5x; measured 0.032 against 0.022 deg:
+// within 10 % of theirs; measured 0.135 against 0.133 mm, which is the registration following
+// each frame's bias), the heading a little worse (within 2x; measured 0.029 against 0.021 deg:
 // the fits and the registration count a fused point as its observations, the outlier pass and
-// the points' spacing along the tape do not). Without the observations counted in the
+// the points' spacing along the tape do not; before the registration's Cauchy weights 0.032
+// against 0.022 deg). Without the observations counted in the
 // registration (each fused point once), its prior holds back the correction of the odometry:
 // the drift tests above fail.
 TEST(PathMemory, FusedEvidenceHoldsEachStretchOnceAndReadsAsWell) {
@@ -176,7 +177,7 @@ TEST(PathMemory, FusedEvidenceHoldsEachStretchOnceAndReadsAsWell) {
   EXPECT_LT(fused.max_points, 250.0);
   EXPECT_GT(as_they_came.max_points, 2500.0);
   EXPECT_LE(fused.rms_e_d_m, 1.1 * as_they_came.rms_e_d_m);
-  EXPECT_LE(fused.rms_e_theta_rad, 1.5 * as_they_came.rms_e_theta_rad);
+  EXPECT_LE(fused.rms_e_theta_rad, 2.0 * as_they_came.rms_e_theta_rad);
   std::printf(
       "fused: %.0f points, %.4f mm / %.4f deg; as they came: %.0f points, %.4f mm / %.4f "
       "deg\n",
@@ -1076,6 +1077,54 @@ TEST(PathMemory, AShortStretchOfEvidenceDoesNotMoveTheMemory) {
   PathMemoryOptions any_span;
   any_span.min_overlap_span_m = 0.0;
   EXPECT_GE(worst_after_a_short_biased_stretch(any_span), 0.001);
+}
+
+// A straight tape driven 10 mm a frame on exact odometry, seen 0.17-0.43 m ahead every 2 mm;
+// from 0.38 m on glare beside one edge: most chords there refused (their width off), one in five
+// kept, its centre glare_m aside (agv evaluate seed 11, sequence 8: 3-11 of the 35 remembered
+// points a 50 mm stretch of the far view holds lay by the evidence there, 1.1-1.9 mm from its
+// course, frame after frame). The largest |e_d| (the truth 0) once the memory gives the errors.
+double worst_with_glare_in_view(const PathMemoryOptions& options, double glare_m) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory(options);
+  double worst_m = 0.0;
+  for (int k = 0; k < 100; ++k) {
+    const double s = 0.01 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    const LineDetection all = seen_from(path, vehicle, s, nullptr, 0.002);
+    LineDetection d = all;
+    d.chords.clear();
+    d.lines[0].chords.clear();
+    for (size_t i = 0; i < all.chords.size(); ++i) {
+      Chord chord = all.chords[i];
+      if (chord.centre().x() > 0.38) {
+        if ((i + k) % 5 != 0) continue;
+        chord.a.y() += glare_m;
+        chord.b.y() += glare_m;
+      }
+      d.chords.push_back(chord);
+      d.lines[0].chords.push_back(static_cast<int>(d.chords.size()) - 1);
+    }
+    d.lines[0].clean_chords = d.lines[0].chords;
+    const LineMeasurement m = memory.update(in_view, d, vehicle);
+    if (!m.extrapolated) worst_m = std::max(worst_m, std::abs(m.e_d_m));
+  }
+  return worst_m;
+}
+
+// The registration's residuals are weighted down beyond registration_residual_scale_m (0.5 mm).
+// Fitted as they came, chords 2 mm aside turned the memory about the vehicle a little every
+// frame, and the tape under the vehicle read 1.76 mm off (measured); with the weights 0.57 mm
+// (1.5 mm aside: 1.33 and 0.96 mm; 3 mm: 2.61 and 0.09 mm). Not nothing: the glare's points are
+// in the memory too, fused with the others, and a bias that stays in the view frame after frame
+// is a drift of the odometry to the registration. Bounds between the two.
+TEST(PathMemory, GlareOnAFewChordsInViewTurnsTheMemoryLess) {
+  EXPECT_LE(worst_with_glare_in_view({}, 0.002), 9e-4);
+  PathMemoryOptions least_squares;
+  least_squares.registration_residual_scale_m = 0.0;
+  EXPECT_GE(worst_with_glare_in_view(least_squares, 0.002), 1.3e-3);
 }
 
 TEST(PathMemory, TapeLostStraightAheadIsLost) {
