@@ -104,6 +104,16 @@ std::vector<Chord> chords_from(const std::string& name) {
   return chords;
 }
 
+// The options LineEstimator set for a frame of `agv evaluate`'s sequences (no width configured),
+// its scan lines scan_spacing_m apart on the floor.
+LineSetOptions options_as_estimated(double scan_spacing_m) {
+  LineSetOptions options;
+  options.expected_width_m = 0.0;
+  options.scan_spacing_m = scan_spacing_m;
+  options.fit.inlier_threshold_m = 0.003;
+  return options;
+}
+
 // The chords LineEstimator found in a frame of a tangential Y fork (data/tangential_fork: 39 mm
 // tape, the branch leaving to the right on R 0.46 m, its split mid-view). The branch, with the
 // stem's chords, is found first; the way straight on runs within a tape width of it over 0.2 m
@@ -113,10 +123,7 @@ std::vector<Chord> chords_from(const std::string& name) {
 TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
   const std::vector<Chord> chords = chords_from("tangential_fork");
   ASSERT_EQ(chords.size(), 896u);
-  LineSetOptions options;  // as LineEstimator set them for this frame (no width configured)
-  options.expected_width_m = 0.0;
-  options.scan_spacing_m = 0.000577;
-  options.fit.inlier_threshold_m = 0.003;
+  const LineSetOptions options = options_as_estimated(0.000577);
   std::vector<std::string> rejections;
   const auto lines = extract_lines(chords, options, &rejections);
   int straight_on = 0, branch = 0;
@@ -140,10 +147,7 @@ TEST(LineSet, ATangentialForksTwoWaysAreTwoLines) {
 TEST(LineSet, AForksBranchReadTwiceIsOneLine) {
   const std::vector<Chord> chords = chords_from("wide_fork_overlap");
   ASSERT_EQ(chords.size(), 853u);
-  LineSetOptions options;  // as LineEstimator set them for this frame (no width configured)
-  options.expected_width_m = 0.0;
-  options.scan_spacing_m = 0.0006015;
-  options.fit.inlier_threshold_m = 0.003;
+  LineSetOptions options = options_as_estimated(0.0006015);
   options.full_span_m = 0.2599;
   const auto lines = extract_lines(chords, options);
   int straight_on = 0, branch = 0;
