@@ -431,9 +431,9 @@ TEST(PathMemory, AnotherTapeRememberedBesideTheVehicleDoesNotGiveTheErrors) {
 // right, so that the memory holds it where the vehicle's own tape is missing, and the vehicle's
 // tape on both sides. Exact odometry, 20 mm a frame; the line in view carried back 5 mm off the
 // truth. Where the window at the origin holds both, one fit through them runs off (measured:
-// 26 mm, 61 deg) with a residual of millimetres: fitted again along the course last measured,
-// else refused (max_fit_rms_m), the errors come from the tape under the vehicle or the line in
-// view (within its 5 mm, 1 deg).
+// 13 mm, 61 deg, with any turn allowed too) with a residual of millimetres: fitted again along
+// the course last measured, else refused (max_fit_rms_m), the errors come from the tape under
+// the vehicle or the line in view (within its 5 mm, 1 deg).
 double branch_beside_m(double s_m) {
   return s_m >= 1.0 && s_m <= 1.05 ? -0.04 - 1.2 * (s_m - 1.0) : 0.0;
 }
@@ -444,7 +444,8 @@ TEST(PathMemory, AFitThroughABranchRememberedBesideTheTapeIsRefused) {
   EXPECT_LE(rad_to_deg(heading_rad), 1.0);
   PathMemoryOptions any_residual;
   any_residual.max_fit_rms_m = 1.0;
-  EXPECT_GE(worst_over_straight_drive_m(any_residual, branch_beside_m, &heading_rad), 0.02);
+  any_residual.max_turn_rad = 10.0;  // the turn limit alone refuses this fit too (0.1 rad)
+  EXPECT_GE(worst_over_straight_drive_m(any_residual, branch_beside_m, &heading_rad), 0.01);
   EXPECT_GE(rad_to_deg(heading_rad), 30.0);
 }
 
@@ -534,9 +535,10 @@ TEST(PathMemory, ATapeWidthFirstSeenTooNarrowIsCorrected) {
 // PathMemoryOptions' max_turn_rad plus R 0.1 m's curvature times the distance driven since the
 // direction was last measured (the tightest corner a guide path has): a fit at the origin that
 // does is no measurement. Without that limit the fit read the tape turned by 89 deg between two
-// frames 10 mm apart (measured). With it the direction still drifts towards the crossing tape a
-// limit's worth at a time (to 56 deg off over 18 frames): the limit stops flips, not a crossing
-// followed for 0.2 m.
+// frames 10 mm apart (measured). With it at 0.2 rad the direction still drifted towards the
+// crossing tape a limit's worth at a time (to 56 deg off over 18 frames); at 0.1 rad it holds
+// (0.0 deg on every frame the memory reads, to 0.53 m): the limit stops flips, and here the
+// drift too.
 TEST(PathMemory, AFitTurningTheTapeFurtherThanATapeTurnsIsRefused) {
   const control::Path tape = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
   const double diagonal_rad = deg_to_rad(45.0);
