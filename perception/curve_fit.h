@@ -56,6 +56,15 @@ struct CurveModel {
       const double swept = std::atan2(k * along, 1.0 - k * across);
       return swept / k;
     }
+    // The curve's direction at arc_position(p), not of unit length (tangent_at without the
+    // trigonometry): the tangent at the foot turned by the angle swept, whose cosine and sine
+    // are (1 - k p.n, k p.t) over their length.
+    Eigen::Vector2d direction_at(const Eigen::Vector2d& p) const {
+      const Eigen::Vector2d q = p - foot;
+      const double k = curvature_1_m;
+      if (std::abs(k) < 1e-9) return tangent;
+      return (1.0 - k * q.dot(normal)) * tangent + (k * q.dot(tangent)) * normal;
+    }
     // A key that orders points as arc_position does, at a fraction of its cost (no arc
     // tangent): for an arc, the pseudo-angle of the same (y, x) = (k along, 1 - k across),
     // increasing with atan2(y, x) over (-pi, pi] (the side of y's sign as atan2 takes it),

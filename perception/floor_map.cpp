@@ -84,6 +84,20 @@ std::shared_ptr<const FloorMap> FloorMap::shared(const CameraModel& camera) {
                   [&camera] { return std::make_shared<const FloorMap>(camera); });
 }
 
+void FloorMap::prefetch(double u_px, double v_px) const {
+  if (!(u_px >= 0.0 && v_px >= 0.0 && u_px <= x_m_.cols - 1 && v_px <= x_m_.rows - 1)) return;
+  const int u0 = std::min(static_cast<int>(u_px), x_m_.cols - 2);
+  const int v0 = std::min(static_cast<int>(v_px), x_m_.rows - 2);
+  // An asm statement: GCC removes __builtin_prefetch calls in a loop without other effects.
+  for (const float* p : {xy_m_.ptr<float>(v0) + 2 * u0, xy_m_.ptr<float>(v0 + 1) + 2 * u0}) {
+#if defined(__GNUC__) && defined(__x86_64__)
+    asm volatile("prefetcht0 %0" : : "m"(*p));
+#else
+    __builtin_prefetch(p);
+#endif
+  }
+}
+
 std::optional<Eigen::Vector2d> FloorMap::at(double u_px, double v_px) const {
   if (!(u_px >= 0.0 && v_px >= 0.0 && u_px <= x_m_.cols - 1 && v_px <= x_m_.rows - 1)) {
     return std::nullopt;

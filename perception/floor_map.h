@@ -29,6 +29,8 @@ class FloorMap {
   // the image or where the floor is not seen. The map is smooth, so interpolation error is
   // far below a micrometre for usual lenses.
   std::optional<Eigen::Vector2d> at(double u_px, double v_px) const;
+  // Asks the processor to bring the map entries at() reads there nearer, ahead of the call.
+  void prefetch(double u_px, double v_px) const;
 
   // A circle (vehicle frame) containing every floor point in view.
   Eigen::Vector2d view_centre_m() const { return view_centre_m_; }

@@ -456,7 +456,19 @@ LineMeasurement LineEstimator::track(const cv::Mat& frame, double stamp_s,
 }
 
 void LineEstimator::add_chords(const std::vector<EdgePair>& edges, LineDetection* d) const {
-  for (const EdgePair& pair : edges) {
+  // The map's entries asked for a few pairs ahead: after a frame is rendered or read they have
+  // left the nearer caches, and a tracked frame's 60 pairs waited for them one by one (agv
+  // bench: 9.9 us a frame, 3.7 us with the map in cache).
+  constexpr size_t kAhead = 8;
+  auto prefetch_pair = [&](size_t i) {
+    if (i >= edges.size()) return;
+    floor_map_->prefetch(edges[i].first_px.x, edges[i].first_px.y);
+    floor_map_->prefetch(edges[i].second_px.x, edges[i].second_px.y);
+  };
+  for (size_t i = 0; i < kAhead; ++i) prefetch_pair(i);
+  for (size_t i = 0; i < edges.size(); ++i) {
+    prefetch_pair(i + kAhead);
+    const EdgePair& pair = edges[i];
     const auto a = floor_map_->at(pair.first_px.x, pair.first_px.y);
     const auto b = floor_map_->at(pair.second_px.x, pair.second_px.y);
     if (!a || !b) continue;

@@ -107,7 +107,7 @@ class EvidenceIndex {
     // The bend of the line in view: its curvature turns its own direction to the left, and the
     // normal here lies to the right of the tangent, so a left turn along the tangent bends
     // towards -normal. Then the offset and slope that fit the points with that bend.
-    const double along = course.tangent.dot(line_.tangent_at(prepared_line_.arc_position(mean)));
+    const double along = course.tangent.dot(prepared_line_.direction_at(mean));
     course.n_of_t[2] = -0.5 * line_.curvature_1_m * (along >= 0.0 ? 1.0 : -1.0);
     // Least squares for (a, b) with rows (1, t): the normal equations' sums one by one.
     double st = 0.0, stt = 0.0, sn = 0.0, stn = 0.0;
@@ -346,8 +346,13 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
         const double r = (row.d + row.j.dot(delta)) / scale_m;
         w /= 1.0 + r * r;
       }
-      jtj += w * row.j * row.j.transpose();
-      jtd += w * row.j * row.d;
+      // jtj += w j j', jtd += w j d, element by element (Eigen's outer product went through
+      // memory in halves and was read back whole: a stall per row).
+      for (int a = 0; a < 3; ++a) {
+        const double wj = w * row.j[a];
+        for (int b = 0; b < 3; ++b) jtj(a, b) += wj * row.j[b];
+        jtd[a] += wj * row.d;
+      }
     }
     jtj *= point_weight;
     jtd *= point_weight;
