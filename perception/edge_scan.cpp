@@ -226,8 +226,17 @@ std::optional<ProfileEdges> find_profile_edges(const std::vector<float>& profile
   };
   const float local_first = 0.5f * (floor_first + mean_of(i + 2, i + 1 + inside));
   const float local_second = 0.5f * (floor_second + mean_of(j - 1 - inside, j - 2));
-  i = walk_to_edge(profile, peak, -1, local_first, max_dip);
-  j = walk_to_edge(profile, peak, +1, local_second, max_dip);
+  // A walk at a level no higher than the first pass's passes wherever that walk passed (each
+  // sample it stood on, and the end of each dip it bridged, lies at or above the lower level
+  // too, and no dip is longer): it goes on from the first pass's last sample on the tape, not
+  // from the peak (the same answer, without walking the tape's width again: a tenth of a
+  // tracked frame's time). The first pass's answer at the profile's ends may be either.
+  auto walk_again = [&](int before, int step, float before_level, float level) {
+    const bool goes_on = level <= before_level && before > 0 && before < count - 1;
+    return walk_to_edge(profile, goes_on ? before - step : peak, step, level, max_dip);
+  };
+  i = walk_again(i, -1, threshold_first, local_first);
+  j = walk_again(j, +1, threshold_second, local_second);
   if (i < side || j > count - 1 - side) return std::nullopt;
   // Third pass with both levels taken right next to each edge: floor texture varies over a few
   // millimetres, so the floor far out differs from the floor the edge blends into. At the
