@@ -5,6 +5,8 @@
 #include <cmath>
 #include <optional>
 
+#include "common/prefetch.h"
+
 namespace agv::perception {
 namespace {
 
@@ -482,17 +484,6 @@ std::vector<EdgePair> scan_border_edges(const cv::Mat& frame, const ContrastAxis
 }
 
 namespace {
-
-// Asks the processor to bring the cache line holding p nearer. GCC removes a loop of
-// __builtin_prefetch calls as a loop without effects (agv bench: none were left in the scan);
-// an asm statement it keeps.
-void prefetch(const unsigned char* p) {
-#if defined(__GNUC__) && defined(__x86_64__)
-  asm volatile("prefetcht0 %0" : : "m"(*p));
-#else
-  __builtin_prefetch(p);
-#endif
-}
 
 // Asks for the pixels that a band line's window (the predicted run widened by margin_px, and
 // 2 * side floor samples beyond) will read, ahead of the scan. Along rows the windows lie `step`

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "common/prefetch.h"
 #include "common/recent_cache.h"
 
 namespace agv::perception {
@@ -84,26 +85,26 @@ std::shared_ptr<const FloorMap> FloorMap::shared(const CameraModel& camera) {
                   [&camera] { return std::make_shared<const FloorMap>(camera); });
 }
 
-void FloorMap::prefetch(double u_px, double v_px) const {
-  if (!(u_px >= 0.0 && v_px >= 0.0 && u_px <= x_m_.cols - 1 && v_px <= x_m_.rows - 1)) return;
-  const int u0 = std::min(static_cast<int>(u_px), x_m_.cols - 2);
-  const int v0 = std::min(static_cast<int>(v_px), x_m_.rows - 2);
-  // An asm statement: GCC removes __builtin_prefetch calls in a loop without other effects.
-  for (const float* p : {xy_m_.ptr<float>(v0) + 2 * u0, xy_m_.ptr<float>(v0 + 1) + 2 * u0}) {
-#if defined(__GNUC__) && defined(__x86_64__)
-    asm volatile("prefetcht0 %0" : : "m"(*p));
-#else
-    __builtin_prefetch(p);
-#endif
-  }
-}
-
-std::optional<Eigen::Vector2d> FloorMap::at(double u_px, double v_px) const {
+std::optional<std::pair<int, int>> FloorMap::cell_of(double u_px, double v_px) const {
   if (!(u_px >= 0.0 && v_px >= 0.0 && u_px <= x_m_.cols - 1 && v_px <= x_m_.rows - 1)) {
     return std::nullopt;
   }
-  const int u0 = std::min(static_cast<int>(u_px), x_m_.cols - 2);
-  const int v0 = std::min(static_cast<int>(v_px), x_m_.rows - 2);
+  return std::pair{std::min(static_cast<int>(u_px), x_m_.cols - 2),
+                   std::min(static_cast<int>(v_px), x_m_.rows - 2)};
+}
+
+void FloorMap::prefetch(double u_px, double v_px) const {
+  const auto cell = cell_of(u_px, v_px);
+  if (!cell) return;
+  const auto [u0, v0] = *cell;
+  agv::prefetch(xy_m_.ptr<float>(v0) + 2 * u0);
+  agv::prefetch(xy_m_.ptr<float>(v0 + 1) + 2 * u0);
+}
+
+std::optional<Eigen::Vector2d> FloorMap::at(double u_px, double v_px) const {
+  const auto cell = cell_of(u_px, v_px);
+  if (!cell) return std::nullopt;
+  const auto [u0, v0] = *cell;
   const double fu = u_px - u0, fv = v_px - v0;
   // The four neighbours' x (channel 0) or y (channel 1), from the interleaved map: both in one
   // or two cache lines a row.

@@ -4,6 +4,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <utility>
 
 #include "perception/camera_model.h"
 
@@ -39,6 +40,9 @@ class FloorMap {
   double typical_footprint_m() const { return typical_footprint_m_; }
 
  private:
+  // The map cell (u0, v0) whose corners at() interpolates between, or nullopt outside the image.
+  std::optional<std::pair<int, int>> cell_of(double u_px, double v_px) const;
+
   cv::Mat x_m_, y_m_, footprint_m_;
   cv::Mat xy_m_;  // CV_32FC2: x_m_ and y_m_ interleaved, for at()
   Eigen::Vector2d view_centre_m_ = Eigen::Vector2d::Zero();

@@ -178,8 +178,8 @@ std::optional<double> best_breakpoint(const PointMoments& m, const JoinedArcsOpt
     double s, t;
     m.breakpoint_terms(xb, first, &u, &s, &t);
     const double across = s - u.dot(a_inv * u);  // what h adds beyond the one piece's span
-    const double gain =
-        across > 1e-12 * s ? (t - u.dot(a_inv_b)) * (t - u.dot(a_inv_b)) / across : 0.0;
+    const double unexplained = t - u.dot(a_inv_b);
+    const double gain = across > 1e-12 * s ? unexplained * unexplained / across : 0.0;
     const double rss = std::max(0.0, one_piece_rss - gain);
     if (rss < best_rss) {
       best_rss = rss;
