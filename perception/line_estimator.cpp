@@ -513,6 +513,7 @@ LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& f
   d.followed = followed.line;
   d.followed_model = followed.model;
   d.branch_heading_rad = followed.branch_heading_rad;
+  d.branch = options_.branch;
   if (const auto near = near_model_if_different(d.chords, d.lines[followed.line], options_.lines)) {
     const bool same_way = near->tangent().dot(followed.model.tangent()) >= 0.0;
     d.followed_model = same_way ? *near : near->reversed();

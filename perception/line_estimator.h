@@ -31,6 +31,7 @@ struct LineDetection {
   int followed = -1;                 // index in `lines` of the line reported
   CurveModel followed_model;         // that line, oriented along the travel direction
   std::optional<double> branch_heading_rad;  // the branch chosen, where there was a choice
+  BranchChoice branch = BranchChoice::kStraight;  // the way the caller takes at junctions
   std::string rejected_because;              // why no line, when none
   bool tracked = false;      // found from the frame before's line (LineEstimator::track)
   bool one_edge = false;     // from the tape's one edge in view and its known width

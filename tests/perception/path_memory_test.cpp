@@ -23,11 +23,13 @@ constexpr double kTapeWidthM = 0.03;
 // the view's middle. The chords' centres lie `centre_offset_m(s)` to the left of the path (0: on
 // it).
 LineDetection seen_from(const control::Path& path, const Pose2& vehicle, double s_vehicle_m,
-                        double (*centre_offset_m)(double) = nullptr, double spacing_m = 0.004) {
+                        double (*centre_offset_m)(double) = nullptr, double spacing_m = 0.004,
+                        bool (*chord_at)(double) = nullptr) {
   LineDetection d;
   DetectedLine line;
   const Pose2 to_vehicle = vehicle.inverse();
   for (double s = s_vehicle_m + 0.17; s <= s_vehicle_m + 0.43; s += spacing_m) {
+    if (chord_at && !chord_at(s)) continue;  // no chord one tape wide there
     const double heading = path.heading_at(s);
     const Eigen::Vector2d normal(-std::sin(heading), std::cos(heading));
     const Eigen::Vector2d centre =
@@ -854,8 +856,9 @@ TEST(PathMemory, AWideCornersOutgoingLegInViewIsNoMoreTakenForTheTapeUnderTheVeh
 // and runs straight again: the gap is bridged, no frame carried back from the view and every one
 // within 1 mm (a fifth of the 5 mm the view carried back is off here) and 0.5 deg at the origin
 // (measured 0.59 mm, 0.38 deg with every frame's evidence kept as it came; 0.61 mm, 0.38 deg
-// fused); without that trigger (bridge_after_turn_rad beyond any turn), 3 frames are carried
-// back (5 mm off).
+// fused); without that trigger (bridge_after_turn_rad beyond any turn) and with tape needed on
+// both sides of the origin (one_side_reach_m -1), 3 frames are carried back (5 mm off). The
+// tape on one side alone reads those frames too (measured 0.47 mm off at most).
 TEST(PathMemory, TapeNeverSeenPastATurnDrivenInViewIsBridged) {
   const WindowDrive r = drive_window({}, 0.15, 45.0);
   EXPECT_EQ(r.extrapolated, 0);
@@ -863,6 +866,10 @@ TEST(PathMemory, TapeNeverSeenPastATurnDrivenInViewIsBridged) {
   EXPECT_LE(rad_to_deg(r.max_e_theta_error_rad), 0.5);
   PathMemoryOptions corners_only;
   corners_only.bridge_after_turn_rad = 10.0;
+  const WindowDrive one_side = drive_window(corners_only, 0.15, 45.0);
+  EXPECT_EQ(one_side.extrapolated, 0);
+  EXPECT_LE(one_side.max_e_d_error_m, 0.001);
+  corners_only.one_side_reach_m = -1.0;
   const WindowDrive off = drive_window(corners_only, 0.15, 45.0);
   EXPECT_GT(off.extrapolated, 0);
   EXPECT_GE(off.max_e_d_error_m, 0.004);
@@ -1196,6 +1203,181 @@ TEST(PathMemory, ABranchTakenIsRememberedWhereItStillOverlapsTheOtherLeg) {
   // The overlap runs from x = 0.2 m to 0.39 m (offset a tape width): a chord every 4 mm, those
   // within kOverlapMin_m of the fork (up to x = 0.224 m) read as the stem.
   EXPECT_GE(on_overlap, 35);
+}
+
+// A straight tape of which the stretch 0.70-0.80 m along never gave a chord one tape wide (where
+// a fork's legs overlap), the vehicle weaving along it (3 mm, 1 deg), 10 mm a frame, exact
+// odometry, the line in view carried back 5 mm off the truth. With the origin 10-20 mm before
+// the hole or past it (4 frames: less than min_cover_m of tape on that side), the remembered
+// tape on the other side gives the errors (exact evidence: within the fit's 0.1 mm / 0.1 deg);
+// with tape needed on both sides (one_side_reach_m -1: never), those frames were the line in
+// view carried back, flagged extrapolated.
+bool outside_the_hole(double s_m) { return s_m < 0.70 || s_m > 0.80; }
+// Past the hole, the evidence 10 mm to the left (another tape beside the way, say).
+double aside_past_the_hole_m(double s_m) { return s_m > 0.80 ? 0.01 : 0.0; }
+
+struct HoleDrive {
+  int next_to_hole = 0, read_from_memory = 0;
+  int at_first_tape = 0, at_first_tape_read = 0;  // the origin 0-20 mm onto the first tape seen
+  double worst_e_d_m = 0.0, worst_e_theta_rad = 0.0;
+};
+
+HoleDrive drive_past_a_hole(const PathMemoryOptions& options,
+                            OdometryKind kind = OdometryKind::wheels,
+                            double (*centre_offset_m)(double) = nullptr) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory(options);
+  HoleDrive r;
+  for (int k = 0; k < 100; ++k) {
+    const double s = 0.01 * k;
+    const double e_d = 0.003 * std::sin(0.3 * k), e_theta = deg_to_rad(1.0) * std::cos(0.25 * k);
+    const Pose2 vehicle{s, e_d, e_theta};
+    const control::TrackingError truth =
+        path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.1));
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = truth.e_d_m + 0.005;
+    in_view.e_theta_rad = truth.e_theta_rad;
+    const LineMeasurement m = memory.update(
+        in_view, seen_from(path, vehicle, s, centre_offset_m, 0.004, outside_the_hole), vehicle,
+        kind);
+    if (s >= 0.1695 && s <= 0.1905) {  // the first tape seen starts 0.17 m along
+      ++r.at_first_tape;
+      if (!m.extrapolated) ++r.at_first_tape_read;
+    }
+    const bool next_to_hole = (s >= 0.6795 && s <= 0.6905) || (s >= 0.8095 && s <= 0.8205);
+    if (!next_to_hole) continue;
+    ++r.next_to_hole;
+    if (m.extrapolated) continue;
+    ++r.read_from_memory;
+    keep_worst(m, truth, &r.worst_e_d_m, &r.worst_e_theta_rad);
+  }
+  return r;
+}
+
+TEST(PathMemory, NextToAHoleInTheMemoryTheTapeOnOneSideGivesTheErrors) {
+  const HoleDrive r = drive_past_a_hole({});
+  EXPECT_EQ(r.next_to_hole, 4);
+  EXPECT_EQ(r.read_from_memory, r.next_to_hole);
+  EXPECT_LT(r.worst_e_d_m, 1e-4);
+  EXPECT_LT(rad_to_deg(r.worst_e_theta_rad), 0.1);
+  PathMemoryOptions both_sides;
+  both_sides.one_side_reach_m = -1.0;
+  EXPECT_EQ(drive_past_a_hole(both_sides).read_from_memory, 0);
+}
+
+// But not in the memory's warm-up (no course measured yet: the first frames on the tape seen
+// first, 0-20 mm onto it, are carried back as before), nor on motion read from the frames, nor
+// where the tape on the one side lies off the course carried forward (past the hole, the
+// evidence 10 mm aside: more than ahead_course_offset_m): those frames are carried back.
+TEST(PathMemory, TheTapeOnOneSideIsReadOnlyOnWheelOdometryAfterTheWarmUpAndNearTheCourse) {
+  const HoleDrive wheels = drive_past_a_hole({});
+  EXPECT_EQ(wheels.at_first_tape, 3);
+  EXPECT_EQ(wheels.at_first_tape_read, 0);
+  EXPECT_EQ(drive_past_a_hole({}, OdometryKind::frames).read_from_memory, 0);
+  const HoleDrive aside = drive_past_a_hole({}, OdometryKind::wheels, aside_past_the_hole_m);
+  EXPECT_EQ(aside.read_from_memory, 2);  // the two frames before the hole
+}
+
+// A straight tape driven for 0.4 m (exact odometry, 10 mm a frame: the course under the vehicle
+// measured), then a frame in which a branch leaves it 0.25 m ahead to the left (R 0.6 m,
+// tangentially), seen as one line only: up to where they part, each scan line crosses both legs
+// at once, from the straight tape's right edge to the branch's left edge, no chord clean, no
+// other line, no junction. Taking the branch (kLeft), the memory keeps the branch's centre there:
+// the outer (left) edge moved half a width across the course. Off the branch's centre line by
+// w theta^2 / 4 (theta its turn from the course, moved across the course, not the branch: 0.3
+// mm at theta 0.2 rad, 30 mm wide tape), so checked within 0.35 mm up to 0.12 m past the fork
+// (theta 0.2): 16 of them (every 4 mm from 0.06 m; nearer the fork the chords are within
+// chord_width_tolerance of the tape and give nothing). Going straight on (kStraight) or taking
+// the right (kRight), nothing there (one edge of worn tape is no surer than the line in view).
+// The same mirrored (the branch leaving to the right) for kRight and kStraight.
+// Where the widening comes on either side at random, or on one side by random amounts that do
+// not grow along the tape (a blotchy floor beside it), nothing.
+enum class Overlap { kBranchLeft, kBranchRight, kBlotchy, kBlotchyLeft };
+bool before_the_fork(double s_m) { return s_m <= 0.66; }  // 0.41 m driven + 0.25 m ahead
+
+std::vector<Eigen::Vector2d> remembered_after_an_overlap(Overlap overlap, BranchChoice choice) {
+  constexpr double kForkX = 0.25, kRadius = 0.6, w = kTapeWidthM;
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory;
+  LineMeasurement in_view;
+  in_view.line_found = true;
+  for (int k = 0; k <= 40; ++k) {
+    const double s = 0.01 * k;
+    memory.update(in_view, seen_from(path, Pose2{s, 0.0, 0.0}, s, nullptr, 0.004, before_the_fork),
+                  Pose2{s, 0.0, 0.0});
+  }
+  const double s_vehicle = 0.41;
+  LineDetection d;
+  DetectedLine line;
+  std::mt19937 random(7);
+  for (double x = 0.17; x <= 0.43; x += 0.004) {
+    const double dx = std::max(0.0, x - kForkX);
+    // The branch's left edge: the circle of radius R - w/2 about (kForkX, R).
+    const double inner = kRadius - 0.5 * w;
+    const double branch_left = kRadius - std::sqrt(std::max(0.0, inner * inner - dx * dx));
+    double left = std::max(0.5 * w, branch_left), right = -0.5 * w;
+    if ((overlap == Overlap::kBlotchy || overlap == Overlap::kBlotchyLeft) && x > kForkX) {
+      const double widening = overlap == Overlap::kBlotchyLeft
+                                  ? std::uniform_real_distribution<double>(0.003, 0.025)(random)
+                                  : branch_left - 0.5 * w;
+      if (overlap == Overlap::kBlotchyLeft || random() % 2) {
+        left = 0.5 * w + widening;
+      } else {
+        right = -0.5 * w - widening;
+        left = 0.5 * w;
+      }
+    }
+    if (left - right >= 2.0 * w) break;      // the legs part: a line each, not this test's case
+    if (overlap == Overlap::kBranchRight) {  // the same fork mirrored: the branch leaves right
+      std::swap(left, right);
+      left = -left;
+      right = -right;
+    }
+    d.chords.push_back({{x, left}, {x, right}});
+    line.chords.push_back(static_cast<int>(d.chords.size()) - 1);
+    if (x <= kForkX) line.clean_chords.push_back(line.chords.back());
+  }
+  line.width_m = w;
+  line.s_min_m = 0.17;
+  line.s_max_m = 0.43;
+  d.lines.push_back(line);
+  d.followed = 0;
+  d.branch = choice;
+  memory.update(in_view, d, Pose2{s_vehicle, 0.0, 0.0});
+  std::vector<Eigen::Vector2d> points = memory.points_in_vehicle_frame();
+  // Those of the overlap, in the frame of the fork (x along the straight tape from it).
+  std::erase_if(points, [&](const Eigen::Vector2d& p) { return p.x() < kForkX + 0.05; });
+  for (Eigen::Vector2d& p : points) p.x() -= kForkX;
+  return points;
+}
+
+TEST(PathMemory, WhereAForksLegsOverlapUnseenApartTheChosenLegIsRemembered) {
+  constexpr double kRadius = 0.6;
+  const std::vector<Eigen::Vector2d> branch =
+      remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kLeft);
+  int checked = 0;
+  for (const Eigen::Vector2d& p : branch) {
+    if (p.x() > 0.1205) continue;
+    const double off_branch = std::hypot(p.x(), p.y() - kRadius) - kRadius;  // centre (0, R)
+    EXPECT_NEAR(off_branch, 0.0, 3.5e-4) << p.transpose();
+    ++checked;
+  }
+  EXPECT_GE(checked, 16);
+  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kStraight).empty());
+  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kRight).empty());
+  // Mirrored: the branch leaves to the right.
+  int mirrored = 0;
+  for (const Eigen::Vector2d& p :
+       remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kRight)) {
+    if (p.x() > 0.1205) continue;
+    EXPECT_NEAR(std::hypot(p.x(), p.y() + kRadius) - kRadius, 0.0, 3.5e-4) << p.transpose();
+    ++mirrored;
+  }
+  EXPECT_GE(mirrored, 16);
+  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kStraight).empty());
+  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBlotchy, BranchChoice::kLeft).empty());
+  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBlotchyLeft, BranchChoice::kLeft).empty());
 }
 
 }  // namespace
