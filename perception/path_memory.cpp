@@ -257,7 +257,7 @@ void PathMemory::reset() {
   disagreeing_frames_ = 0;
   disagreeing_width_m_ = 0.0;
   correction_ = Pose2{};
-  misalignment_cov_.setZero();
+  reset_yaw_drift();
   last_odometry_.reset();
   tape_heading_rad_.reset();
   corner_passed_at_m_.reset();
@@ -272,17 +272,36 @@ std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
   return out;
 }
 
+void PathMemory::reset_yaw_drift() {
+  misalignment_cov_.setZero();
+  misalignment_cov_(3, 3) = options_.yaw_drift_sigma_rad_per_m * options_.yaw_drift_sigma_rad_per_m;
+  yaw_drift_rad_per_m_ = 0.0;
+}
+
 void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
   // The misalignment's uncertainty grows by what the odometry can have got wrong since the last
   // frame: a constant by kind of odometry and a part per metre driven (from 0 when nothing is
-  // remembered: this frame's evidence is placed where the vehicle is).
-  if (points_.empty()) misalignment_cov_.setZero();
+  // remembered: this frame's evidence is placed where the vehicle is; the yaw drift estimate
+  // stays).
+  if (points_.empty()) {
+    misalignment_cov_.topLeftCorner<3, 4>().setZero();
+    misalignment_cov_.bottomLeftCorner<1, 3>().setZero();
+  }
+  // On wheels the rotation grows by the yaw drift estimate's error times the distance (x_r +=
+  // d x_b; update takes the estimate's own rotation out).
+  if (kind == OdometryKind::wheels && options_.yaw_drift_sigma_rad_per_m > 0.0) {
+    Eigen::Matrix4d grow = Eigen::Matrix4d::Identity();
+    grow(0, 3) = travelled_m;
+    misalignment_cov_ = grow * misalignment_cov_ * grow.transpose();
+    misalignment_cov_(3, 3) += options_.yaw_drift_walk_rad_per_m_per_sqrt_m *
+                               options_.yaw_drift_walk_rad_per_m_per_sqrt_m * travelled_m;
+  }
   const PathMemoryOptions::Prior& prior = kind == OdometryKind::wheels   ? options_.wheels_prior
                                           : kind == OdometryKind::frames ? options_.frames_prior
                                                                          : options_.guess_prior;
   const double sigma_t = prior.shift_m + options_.prior_shift_per_m * travelled_m;
   const double sigma_r = prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m;
-  misalignment_cov_.diagonal() +=
+  misalignment_cov_.diagonal().head<3>() +=
       Eigen::Vector3d(sigma_r * sigma_r, sigma_t * sigma_t, sigma_t * sigma_t);
   // Along a straight tape the shift along it is never seen: the uncertainty stops at what a
   // registration may correct at all.
@@ -333,17 +352,27 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   // memory may be out of line: along a straight tape the points say nothing of the shift along
   // it, and the prior keeps it where the odometry put it. Then twice more with Cauchy weights on
   // the residuals the correction leaves (registration_residual_scale_m).
+  // With the yaw drift (a fourth state the points see only through its past coupling to the
+  // rotation): the same in the 4 x 4 information form. Without it, the fourth state is held at
+  // 0 (its prior information 1, no coupling).
   const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
   const double scale_m = options_.registration_residual_scale_m;
-  Eigen::Matrix3d jtj;
-  Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+  const bool with_drift = options_.yaw_drift_sigma_rad_per_m > 0.0;
+  Eigen::Matrix4d prior_information = Eigen::Matrix4d::Identity();
+  if (with_drift) {
+    prior_information = misalignment_cov_.inverse();
+  } else {
+    prior_information.topLeftCorner<3, 3>() = misalignment_cov_.topLeftCorner<3, 3>().inverse();
+  }
+  Eigen::Matrix4d information = prior_information;
+  Eigen::Vector4d delta = Eigen::Vector4d::Zero();
   for (int round = 0; round < (scale_m > 0.0 ? 3 : 1); ++round) {
-    jtj.setZero();
+    Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
     Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
     for (const RegistrationRow& row : rows) {
       double w = row.observations;
       if (round > 0) {
-        const double r = (row.d + row.j.dot(delta)) / scale_m;
+        const double r = (row.d + row.j.dot(delta.head<3>())) / scale_m;
         w /= 1.0 + r * r;
       }
       // jtj += w j j', jtd += w j d, element by element (Eigen's outer product went through
@@ -354,19 +383,25 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
         jtd[a] += wj * row.d;
       }
     }
-    jtj *= point_weight;
-    jtd *= point_weight;
-    jtj += misalignment_cov_.inverse();
-    delta = jtj.ldlt().solve(-jtd);
+    information = prior_information;
+    information.topLeftCorner<3, 3>() += point_weight * jtj;
+    Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+    rhs.head<3>() = -point_weight * jtd;
+    delta = information.ldlt().solve(rhs);
   }
-  misalignment_cov_ = jtj.inverse();
+  misalignment_cov_ = information.inverse();
+  if (!with_drift) {
+    misalignment_cov_.row(3).setZero();
+    misalignment_cov_.col(3).setZero();
+  }
   if (std::abs(delta[0]) > options_.max_correction_rad ||
-      delta.tail<2>().norm() > options_.max_correction_m) {
+      delta.segment<2>(1).norm() > options_.max_correction_m) {
     points_.clear();  // the remembered tape is not this tape (or the odometry jumped)
-    misalignment_cov_.setZero();
     in_vehicle->clear();
+    reset_yaw_drift();
     return;
   }
+  yaw_drift_rad_per_m_ += delta[3];
   const Pose2 move{delta[1], delta[2], delta[0]};
   const Pose2::Map moved = move.map();
   for (Eigen::Vector2d& p : *in_vehicle) p = moved(p);
@@ -1022,6 +1057,12 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
   grow_misalignment(travelled_m, kind);  // every frame, also those without tape in view
+  // The rotation the wheel odometry's yaw drift (as estimated) added since the last frame, taken
+  // out (about the vehicle's origin, as a registration's correction is).
+  if (kind == OdometryKind::wheels && yaw_drift_rad_per_m_ != 0.0 && !points_.empty()) {
+    vehicle_ = vehicle_.compose(Pose2{0.0, 0.0, yaw_drift_rad_per_m_ * travelled_m}.inverse());
+    correction_ = vehicle_.compose(odometry->inverse());
+  }
   odometry_kind_ = kind;
   recent_headings_.emplace_back(odometer_m_, vehicle_.yaw_rad);
   while (odometer_m_ - recent_headings_.front().first > options_.bridge_after_corner_m)

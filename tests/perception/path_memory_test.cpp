@@ -388,6 +388,62 @@ TEST(PathMemory, ADriftTheOdometryKeepsMakingIsRemovedInFull) {
   EXPECT_LT(r.max_e_d_error_m, 1e-4);
 }
 
+// A vehicle weaving along 3 m of straight tape, 30 mm a frame (the default run's 10 frames/s at
+// 0.3 m/s), exact evidence, its odometry turning `yaw_drift_rad_per_m` per metre more than the
+// vehicle does: the mean offset error of the frames read from the memory over the last 1.5 m,
+// and the memory's yaw drift estimate at the end.
+struct SteadyDrift {
+  double mean_e_d_error_m = 0.0, estimate_rad_per_m = 0.0;
+};
+SteadyDrift drive_with_steady_drift(const PathMemoryOptions& options, double yaw_drift_rad_per_m) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(3.6);
+  PathMemory memory(options);
+  Pose2 odometry, last_true;
+  double sum_m = 0.0;
+  int counted = 0;
+  for (int k = 0; k < 100; ++k) {
+    const double s = 0.03 * k;
+    const double e_d = 0.004 * std::sin(0.2 * k), e_theta = deg_to_rad(1.0) * std::cos(0.2 * k);
+    const Pose2 vehicle{s, e_d, e_theta};
+    if (k > 0) {
+      const Pose2 step = last_true.inverse().compose(vehicle);
+      odometry = odometry.compose(
+          {step.x_m, step.y_m, step.yaw_rad + yaw_drift_rad_per_m * step.translation().norm()});
+    }
+    last_true = vehicle;
+    const control::TrackingError truth =
+        path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.1));
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = truth.e_d_m;
+    in_view.e_theta_rad = truth.e_theta_rad;
+    const LineMeasurement m = memory.update(in_view, seen_from(path, vehicle, s), odometry);
+    if (s < 1.5 || m.extrapolated) continue;
+    sum_m += m.e_d_m - truth.e_d_m;
+    ++counted;
+  }
+  EXPECT_GE(counted, 45);
+  return {counted > 0 ? sum_m / counted : 0.0, memory.yaw_drift_rad_per_m()};
+}
+
+// A heading drift the wheel odometry keeps making (0.2 deg per metre, the default scenario's) is
+// estimated (within 20 % after 3 m: its steady rotation is what every registration corrects;
+// measured 0.00306 rad/m for 0.0035) and taken out of each frame's motion, so that the memory
+// lags it less: the offset's bias under 0.025 mm (the evidence is exact; measured 0.0125 mm, the
+// estimate still converging). Without the estimate the registration corrects the drift a little
+// late each frame, always the same way: a bias over 0.05 mm (measured 0.073 mm; the default run
+// read 0.115 mm RMS so, 0.047 with the estimate).
+TEST(PathMemory, AHeadingDriftTheWheelsKeepMakingIsEstimatedAndTakenOut) {
+  const SteadyDrift estimated = drive_with_steady_drift({}, 0.0035);
+  EXPECT_NEAR(estimated.estimate_rad_per_m, 0.0035, 0.0007);
+  EXPECT_LT(std::abs(estimated.mean_e_d_error_m), 2.5e-5);
+  PathMemoryOptions without;
+  without.yaw_drift_sigma_rad_per_m = 0.0;
+  const SteadyDrift lagging = drive_with_steady_drift(without, 0.0035);
+  EXPECT_EQ(lagging.estimate_rad_per_m, 0.0);
+  EXPECT_GT(std::abs(lagging.mean_e_d_error_m), 5e-5);
+}
+
 // A straight tape of which one stretch (1.0-1.15 m along) was only ever seen as another tape
 // 70 mm to its right (perception followed that tape there: a leg of the path passing beside it),
 // so that the memory holds that tape, on both sides of the origin, where the vehicle's own is
@@ -1125,15 +1181,16 @@ double worst_with_glare_in_view(const PathMemoryOptions& options, double glare_m
 
 // The registration's residuals are weighted down beyond registration_residual_scale_m (0.5 mm).
 // Fitted as they came, chords 2 mm aside turned the memory about the vehicle a little every
-// frame, and the tape under the vehicle read 1.76 mm off (measured); with the weights 0.57 mm
-// (1.5 mm aside: 1.33 and 0.96 mm; 3 mm: 2.61 and 0.09 mm). Not nothing: the glare's points are
+// frame, and the tape under the vehicle read 2.31 mm off (measured); with the weights 0.92 mm
+// (1.5 mm aside: 1.83 and 1.43 mm; 3 mm: 3.33 and 0.13 mm). Not nothing: the glare's points are
 // in the memory too, fused with the others, and a bias that stays in the view frame after frame
-// is a drift of the odometry to the registration. Bounds between the two.
+// is a drift of the odometry to the registration, and to the yaw drift estimate (without that
+// estimate: 1.76 and 0.57 mm). Bounds between the two.
 TEST(PathMemory, GlareOnAFewChordsInViewTurnsTheMemoryLess) {
-  EXPECT_LE(worst_with_glare_in_view({}, 0.002), 9e-4);
+  EXPECT_LE(worst_with_glare_in_view({}, 0.002), 1.0e-3);
   PathMemoryOptions least_squares;
   least_squares.registration_residual_scale_m = 0.0;
-  EXPECT_GE(worst_with_glare_in_view(least_squares, 0.002), 1.3e-3);
+  EXPECT_GE(worst_with_glare_in_view(least_squares, 0.002), 1.5e-3);
 }
 
 TEST(PathMemory, TapeLostStraightAheadIsLost) {
