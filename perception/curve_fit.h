@@ -65,6 +65,13 @@ struct CurveModel {
       if (std::abs(k) < 1e-9) return tangent;
       return (1.0 - k * q.dot(normal)) * tangent + (k * q.dot(tangent)) * normal;
     }
+    // tangent_at(arc_position(p)) without the trigonometry (an arc tangent and a sine and cosine
+    // per point: a tenth of a tracked frame's time, for the chords' widths): direction_at of unit
+    // length; the tangent itself on a straight line.
+    Eigen::Vector2d unit_direction_at(const Eigen::Vector2d& p) const {
+      if (std::abs(curvature_1_m) < 1e-9) return tangent;
+      return direction_at(p).normalized();
+    }
     // A key that orders points as arc_position does, at a fraction of its cost (no arc
     // tangent): for an arc, the pseudo-angle of the same (y, x) = (k along, 1 - k across),
     // increasing with atan2(y, x) over (-pi, pi] (the side of y's sign as atan2 takes it),

@@ -17,10 +17,9 @@ double quantile(std::vector<double> values, double q) {
   return values[i];
 }
 
-// Width of the tape at a chord: the chord's extent across the curve (`prepared`: the model's).
-double chord_width(const Chord& chord, const CurveModel& model,
-                   const CurveModel::Prepared& prepared) {
-  const Eigen::Vector2d ahead = model.tangent_at(prepared.arc_position(chord.centre()));
+// Width of the tape at a chord: the chord's extent across the curve (`prepared`: its model's).
+double chord_width(const Chord& chord, const CurveModel::Prepared& prepared) {
+  const Eigen::Vector2d ahead = prepared.unit_direction_at(chord.centre());
   return std::abs(Eigen::Vector2d(-ahead.y(), ahead.x()).dot(chord.a - chord.b));
 }
 
@@ -106,7 +105,7 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   std::vector<double> widths;
   const CurveModel::Prepared first_curve = first.model.prepared();
   for (size_t i = 0; i < chords.size(); ++i) {
-    if (first.inliers[i]) widths.push_back(chord_width(chords[i], first.model, first_curve));
+    if (first.inliers[i]) widths.push_back(chord_width(chords[i], first_curve));
   }
   // The edges lie at half the tape's measured width (real tape differs from its nominal width
   // by millimetres; the configured width is checked afterwards).
@@ -126,8 +125,7 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
     std::vector<double> edge_widths;
     const CurveModel::Prepared edge_curve = edge_fit.model.prepared();
     for (size_t i = 0; i < chords.size(); ++i) {
-      if (edge_fit.edge_inliers[i] == 3)
-        edge_widths.push_back(chord_width(chords[i], edge_fit.model, edge_curve));
+      if (edge_fit.edge_inliers[i] == 3) edge_widths.push_back(chord_width(chords[i], edge_curve));
     }
     std::vector<double> firsts_again, seconds_again;
     const double half_width_again_m = 0.5 * quantile(edge_widths, 0.5);
@@ -281,7 +279,7 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
     // Width and clean chords: both edges on this tape (not one edge at a fork).
     if (candidate.edge_inliers.empty() || candidate.edge_inliers[i] == 3) {
       line.clean_chords.push_back(static_cast<int>(i));
-      widths.push_back(chord_width(chords[i], fit.model, curve));
+      widths.push_back(chord_width(chords[i], curve));
     }
   }
   line.width_m = quantile(widths, 0.5);

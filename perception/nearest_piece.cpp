@@ -14,9 +14,10 @@ std::optional<CurveModel> nearest_piece(const std::vector<Chord>& chords, const 
   options.both_sides = false;
   options.min_piece_m = 0.04;
   if (line.clean_chords.empty()) return std::nullopt;
-  double s_near = model.arc_position(chords[line.clean_chords.front()].centre());
+  const CurveModel::Prepared prepared = model.prepared();  // its trigonometry once
+  double s_near = prepared.arc_position(chords[line.clean_chords.front()].centre());
   for (int index : line.clean_chords) {
-    const double s = model.arc_position(chords[index].centre());
+    const double s = prepared.arc_position(chords[index].centre());
     if (std::abs(s) < std::abs(s_near)) s_near = s;
   }
   const Eigen::Vector2d t = model.tangent_at(s_near);

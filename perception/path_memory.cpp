@@ -268,6 +268,7 @@ void PathMemory::reset() {
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
   const Pose2::Map to_vehicle = vehicle_.inverse().map();
   std::vector<Eigen::Vector2d> out;
+  out.reserve(points_.size());
   for (const Point& point : points_) out.push_back(to_vehicle(point.p));
   return out;
 }
@@ -893,7 +894,7 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& de
   const CurveModel::Prepared& followed = curves[detection.followed];
   for (int index : line.chords) {
     const Chord& chord = detection.chords[index];
-    const Eigen::Vector2d ahead = line.model.tangent_at(followed.arc_position(chord.centre()));
+    const Eigen::Vector2d ahead = followed.unit_direction_at(chord.centre());
     const Eigen::Vector2d normal(-ahead.y(), ahead.x());
     const double width_m = std::abs(normal.dot(chord.a - chord.b));
     if (width_m <= w + kOverlapMin_m || width_m >= 2.0 * w) continue;
@@ -1015,7 +1016,7 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
     if (overlapping[index]) continue;
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d middle = chord.centre();
-    const Eigen::Vector2d ahead = line.model.tangent_at(model.arc_position(middle));
+    const Eigen::Vector2d ahead = model.unit_direction_at(middle);
     // A scan line crosses a bend obliquely: the middle of its chord lies inside the tape's centre
     // line (by up to w^2 / 8R, 0.07 mm for 25 mm tape on R 0.3 m, and changing from frame to
     // frame with the angle of the crossing). The centre is where the distance from the fitted
@@ -1078,6 +1079,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
 
   // Keep what is not too far behind and not too old; add this frame's evidence.
   std::vector<Point> kept;
+  kept.reserve(points_.size());
   const std::vector<bool> on_other = on_other_lines(detection, in_vehicle);
   for (size_t i = 0; i < points_.size() && i < in_vehicle.size(); ++i) {
     if (in_vehicle[i].x() < -options_.keep_behind_m) continue;
