@@ -213,6 +213,7 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
   int sequences = 0;
   for (int side : {-1, 0, 1}) {
     std::vector<std::pair<double, double>> by_position;  // (arc order key, residual)
+    by_position.reserve(obs.size());
     for (size_t i = 0; i < obs.size(); ++i) {
       if (!use[i]) continue;
       const int obs_side = obs[i].offset == 0.0 ? 0 : (obs[i].offset > 0.0 ? 1 : -1);
@@ -227,6 +228,7 @@ double correlation_inflation(const CurveModel& m, const std::vector<Observation>
       std::sort(by_position.begin(), by_position.end());
     }
     std::vector<double> residuals;
+    residuals.reserve(by_position.size());
     for (const auto& [s, r] : by_position) residuals.push_back(r);
     total_tau += integrated_autocorrelation_time(residuals);
     ++sequences;
@@ -300,6 +302,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
                           const EdgeObservations* edges, const CurveModel* initial) {
   CurveFit fit;
   std::vector<int> usable;
+  usable.reserve(points.size());
   for (size_t i = 0; i < points.size(); ++i) {
     if (!mask || (*mask)[i]) usable.push_back(static_cast<int>(i));
   }
@@ -307,6 +310,7 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   if (n < 3) return fit;
   // What the fit is scored and refined on: the points themselves, or the edges of their chords.
   std::vector<Observation> obs;
+  obs.reserve(edges ? 2 * usable.size() : usable.size());
   for (int i : usable) {
     if (edges) {
       // An edge whose offset is NaN is left out.

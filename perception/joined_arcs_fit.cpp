@@ -243,6 +243,7 @@ double coefficient_sigma(const std::vector<Eigen::Vector2d>& p,
                          std::optional<double> xb, int index) {
   Eigen::Matrix4d ata = Eigen::Matrix4d::Zero();
   std::vector<double> residuals;
+  residuals.reserve(by_x.size());
   double rss = 0.0, counted = 0.0;
   for (const Eigen::Vector2d* q : by_x) {
     if (!use[q - p.data()]) continue;
@@ -356,6 +357,7 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   // The points in order along x, once for both fits (the breakpoint search and the residuals'
   // autocorrelation need the order; one piece alone does not).
   std::vector<const Eigen::Vector2d*> by_x;
+  by_x.reserve(points.size());
   for (const Eigen::Vector2d& p : points) by_x.push_back(&p);
   if (options.joint || options.curvature_sigma)
     std::sort(by_x.begin(), by_x.end(),
@@ -363,6 +365,7 @@ std::optional<JoinedArcs> fit_joined_arcs(const std::vector<Eigen::Vector2d>& po
   auto [model, xb] = best_model(points, by_x, use, weight, options);
   // Once: drop the points far off (a stray chord, a seam), then fit again.
   std::vector<double> residuals;
+  residuals.reserve(points.size());
   for (const Eigen::Vector2d& p : points)
     residuals.push_back(std::abs(model_y(model.c, p.x(), xb) - p.y()));
   const double limit = outlier_limit(residuals, weights, options.outlier_sigmas);

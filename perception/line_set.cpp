@@ -29,16 +29,19 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
                                                   const DetectedLine& line,
                                                   const LineSetOptions& options, double sigmas) {
   std::vector<double> distances;
+  distances.reserve(line.clean_chords.size());
   for (int index : line.clean_chords) distances.push_back(chords[index].centre().norm());
   if (static_cast<int>(distances.size()) < 2 * options.min_points) return std::nullopt;
   const double median = quantile(distances, 0.5);
   std::vector<Eigen::Vector2d> centres;
+  centres.reserve(chords.size());
   for (const Chord& chord : chords) centres.push_back(chord.centre());
   std::vector<bool> near(chords.size(), false);
   for (int index : line.clean_chords) near[index] = chords[index].centre().norm() <= median;
   // Cheap test first: the whole model fits the near evidence to its own residual level.
   {
     std::vector<double> misfit;
+    misfit.reserve(line.clean_chords.size());
     const CurveModel::Prepared whole = line.model.prepared();
     for (size_t i = 0; i < chords.size(); ++i) {
       if (near[i]) misfit.push_back(std::abs(whole.signed_distance(centres[i])));
@@ -231,6 +234,9 @@ ChordSet chord_set(const std::vector<Chord>& chords, const LineSetOptions& optio
   ChordSet c;
   const double max_chord_m = options.expected_width_m > 0.0 ? 3.0 * options.expected_width_m : 0.3;
   usable->clear();
+  usable->reserve(chords.size());
+  for (std::vector<Eigen::Vector2d>* v : {&c.centres, &c.firsts, &c.seconds})
+    v->reserve(chords.size());
   for (const Chord& chord : chords) {
     c.centres.push_back(chord.centre());
     c.firsts.push_back(chord.a);
@@ -273,6 +279,9 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
   line.points_used = fit.inlier_count;
   const CurveModel::Prepared curve = fit.model.prepared();
   std::vector<double> widths;
+  widths.reserve(fit.inlier_count);
+  line.chords.reserve(fit.inlier_count);
+  line.clean_chords.reserve(fit.inlier_count);
   for (size_t i = 0; i < chords.size(); ++i) {
     if (!fit.inliers[i]) continue;
     line.chords.push_back(static_cast<int>(i));

@@ -426,6 +426,7 @@ std::optional<LineMeasurement> PathMemory::at_origin(
   // whichever way it turns.
   const double reach_m = std::hypot(options_.window_m, options_.window_across_m) + 1e-9;
   std::vector<size_t> near_origin;
+  near_origin.reserve(in_vehicle.size());
   for (size_t i = 0; i < in_vehicle.size(); ++i)
     if (in_vehicle[i].squaredNorm() <= reach_m * reach_m) near_origin.push_back(i);
   // Where the window holds more than one tape (below), only the points within a tape width of
@@ -440,6 +441,9 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     std::vector<Eigen::Vector2d> local;
     std::vector<double> weights;                // each point's observations
     std::vector<std::pair<double, int>> along;  // (x, observations)
+    local.reserve(near_origin.size());
+    weights.reserve(near_origin.size());
+    along.reserve(near_origin.size());
     const Turn to_frame(-frame_rad);
     for (size_t i : near_origin) {
       const Eigen::Vector2d q = to_frame(in_vehicle[i]);
