@@ -257,7 +257,7 @@ void PathMemory::reset() {
   disagreeing_frames_ = 0;
   disagreeing_width_m_ = 0.0;
   correction_ = Pose2{};
-  reset_yaw_drift();
+  reset_misalignment();
   last_odometry_.reset();
   tape_heading_rad_.reset();
   corner_passed_at_m_.reset();
@@ -273,7 +273,7 @@ std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
   return out;
 }
 
-void PathMemory::reset_yaw_drift() {
+void PathMemory::reset_misalignment() {
   misalignment_cov_.setZero();
   misalignment_cov_(3, 3) = options_.yaw_drift_sigma_rad_per_m * options_.yaw_drift_sigma_rad_per_m;
   yaw_drift_rad_per_m_ = 0.0;
@@ -399,7 +399,7 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
       delta.segment<2>(1).norm() > options_.max_correction_m) {
     points_.clear();  // the remembered tape is not this tape (or the odometry jumped)
     in_vehicle->clear();
-    reset_yaw_drift();
+    reset_misalignment();
     return;
   }
   yaw_drift_rad_per_m_ += delta[3];

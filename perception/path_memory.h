@@ -240,7 +240,7 @@ struct PathMemoryOptions {
 class PathMemory {
  public:
   explicit PathMemory(const PathMemoryOptions& options = {}) : options_(options) {
-    reset_yaw_drift();
+    reset_misalignment();
   }
 
   // One frame: `in_view` is the measurement of the line in view (carried back to the origin),
@@ -297,8 +297,9 @@ class PathMemory {
   // the way not taken at a fork (forgotten); the way the vehicle came is kept.
   static std::vector<bool> on_other_lines(const LineDetection& detection,
                                           const std::vector<Eigen::Vector2d>& points);
-  // The misalignment's uncertainty after travelled_m more of the odometry's kind (on wheels,
-  // with the rotation of the yaw drift estimate taken out of vehicle_).
+  // The misalignment's uncertainty after travelled_m more of the odometry's kind (on wheels, the
+  // rotation's also growing with the yaw drift estimate's error; update takes the estimate's own
+  // rotation out of vehicle_).
   void grow_misalignment(double travelled_m, OdometryKind kind);
   void register_to(const std::vector<Eigen::Vector2d>& evidence, const CurveModel& line,
                    std::vector<Eigen::Vector2d>* in_vehicle);
@@ -372,8 +373,8 @@ class PathMemory {
   // held back frame after frame by the prior on one frame's error.
   Eigen::Matrix4d misalignment_cov_ = Eigen::Matrix4d::Zero();
   double yaw_drift_rad_per_m_ = 0.0;  // the wheel odometry's, as the registrations found it
-  // Sets the yaw drift estimate to its prior.
-  void reset_yaw_drift();
+  // No misalignment, known exactly, and the yaw drift estimate at its prior (0).
+  void reset_misalignment();
   std::optional<Pose2> last_odometry_;
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
