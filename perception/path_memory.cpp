@@ -952,9 +952,9 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     if ((*used)[index] || clean[index]) continue;
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d across = chord.a - chord.b;
-    const Eigen::Vector2d ahead = course.direction_at(chord.centre()).normalized();
+    const Eigen::Vector2d ahead = course.unit_direction_at(chord.centre());
     const Eigen::Vector2d left(-ahead.y(), ahead.x());
-    const Eigen::Vector2d in_view = model.direction_at(chord.centre()).normalized();
+    const Eigen::Vector2d in_view = model.unit_direction_at(chord.centre());
     const double width_m = std::abs(left.dot(across));
     const double width_in_view_m = std::abs(in_view.x() * across.y() - in_view.y() * across.x());
     if (width_m <= wider_than_tape_m || width_m >= 2.0 * w || width_in_view_m <= wider_than_tape_m)
