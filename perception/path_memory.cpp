@@ -658,6 +658,115 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   return with_model(in_view, bridged);
 }
 
+std::optional<LineMeasurement> PathMemory::around_corner(
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
+  // Only after a course measured on a corner's arc: the circle is started from it.
+  if (options_.corner_band_m <= 0.0 || !last_course_ ||
+      std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
+    return std::nullopt;
+  const CurveModel course = last_course_now();
+  const CurveModel::Prepared along = course.prepared();
+  const double band_m = std::max(options_.corner_band_m, tape_width_m_);
+  // Arc positions along the course (carried on from where it was measured) of the points near
+  // it; the gap around the origin between the nearest behind and the nearest ahead.
+  std::vector<double> s_of(in_vehicle.size(), std::numeric_limits<double>::quiet_NaN());
+  double last_behind = -std::numeric_limits<double>::infinity();
+  double first_ahead = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < in_vehicle.size(); ++i) {
+    if (std::abs(along.signed_distance(in_vehicle[i])) > band_m) continue;
+    const double s = along.arc_position(in_vehicle[i]);
+    s_of[i] = s;
+    if (s <= 0.0)
+      last_behind = std::max(last_behind, s);
+    else
+      first_ahead = std::min(first_ahead, s);
+  }
+  if (!std::isfinite(last_behind) || -last_behind > options_.max_gap_m) return std::nullopt;
+  std::vector<Eigen::Vector2d> ends, ahead;
+  int observed[2] = {0, 0};
+  for (size_t i = 0; i < in_vehicle.size(); ++i) {
+    const double s = s_of[i];
+    const int end = s <= last_behind && s >= last_behind - options_.gap_end_m   ? 0
+                    : s >= first_ahead && s <= first_ahead + options_.gap_end_m ? 1
+                                                                                : -1;
+    if (end < 0) continue;
+    ends.push_back(in_vehicle[i]);
+    if (end == 1) ahead.push_back(in_vehicle[i]);
+    observed[end] += points_[i].observations;
+  }
+  if (observed[0] < options_.min_points) return std::nullopt;
+  if (observed[1] >= options_.min_points && first_ahead - last_behind <= options_.max_gap_m) {
+    // One circle (or line) through both ends, from the course: it must hold nine in ten of their
+    // points (the tape ahead may already be the straight after the corner: then it does not).
+    CurveFitOptions fit_options;
+    fit_options.inlier_threshold_m = 3.0 * options_.corner_max_rms_m;
+    fit_options.forward = course.tangent();
+    const CurveFit fit = fit_curve_robust(ends, fit_options, nullptr, nullptr, &course);
+    if (fit.ok && fit.rms_m <= options_.corner_max_rms_m &&
+        10 * fit.inlier_count >= 9 * static_cast<int>(ends.size()) &&
+        !runs_against_the_vehicle(fit.model))
+      return with_model(in_view, fit.model);
+    if (const std::optional<CurveModel> joined = line_after_arc(course, ahead))
+      return with_model(in_view, *joined);
+  }
+  // The corner ends in the gap and its way out runs off the arc at once (a tight corner: out of
+  // the band): the tape nearest ahead of the vehicle (within max_gap_m ahead, window_across_m
+  // across), over gap_end_m, as the line after the arc.
+  double nearest_x = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& p : in_vehicle)
+    if (p.x() > 0.0 && p.x() <= options_.max_gap_m && std::abs(p.y()) <= options_.window_across_m)
+      nearest_x = std::min(nearest_x, p.x());
+  if (!std::isfinite(nearest_x)) return std::nullopt;
+  ahead.clear();
+  int observed_ahead = 0;
+  for (size_t i = 0; i < in_vehicle.size(); ++i) {
+    const Eigen::Vector2d& p = in_vehicle[i];
+    if (p.x() < nearest_x || p.x() > nearest_x + options_.gap_end_m ||
+        std::abs(p.y()) > options_.window_across_m)
+      continue;
+    ahead.push_back(p);
+    observed_ahead += points_[i].observations;
+  }
+  if (observed_ahead < options_.min_points) return std::nullopt;
+  if (const std::optional<CurveModel> joined = line_after_arc(course, ahead))
+    return with_model(in_view, *joined);
+  return std::nullopt;
+}
+
+std::optional<CurveModel> PathMemory::line_after_arc(
+    const CurveModel& arc, const std::vector<Eigen::Vector2d>& ahead) const {
+  // The line through the points ahead (their principal direction, oriented along the arc).
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : ahead) mean += p;
+  mean /= static_cast<double>(ahead.size());
+  Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+  for (const Eigen::Vector2d& p : ahead) scatter += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
+  Eigen::Vector2d direction = eigen.eigenvectors().col(1);
+  if (direction.dot(arc.tangent_at(arc.arc_position(mean))) < 0.0) direction = -direction;
+  const Eigen::Vector2d normal(-direction.y(), direction.x());
+  double residual = 0.0;
+  for (const Eigen::Vector2d& p : ahead)
+    residual = std::max(residual, std::abs(normal.dot(p - mean)));
+  if (residual > 3.0 * options_.corner_max_rms_m) return std::nullopt;  // not straight
+  // The arc's centre lies its radius from that line, on the arc's inner side (the line is tangent
+  // to it), within bridge_arc_meets_m; the tangent point lies ahead of the arc's remembered end
+  // and behind the points ahead.
+  const double k = arc.curvature_1_m;
+  const Eigen::Vector2d centre = arc.foot_point() + arc.normal() / k;
+  const double centre_side = normal.dot(centre - mean);  // + : left of the line
+  if (std::abs(std::abs(centre_side) - 1.0 / std::abs(k)) > options_.bridge_arc_meets_m ||
+      centre_side * k <= 0.0)
+    return std::nullopt;
+  const Eigen::Vector2d touch = centre - centre_side * normal;
+  const double touch_along = direction.dot(touch - mean);
+  if (touch_along > 0.0) return std::nullopt;  // the line starts ahead of the points ahead
+  // Under the vehicle: the line once past the tangent point, else the arc.
+  const double origin_along = direction.dot(-mean);
+  if (origin_along < touch_along) return arc;
+  return curve_through_point(mean, std::atan2(direction.y(), direction.x()), 0.0);
+}
+
 std::optional<LineMeasurement> PathMemory::from_tape_ahead(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
   // Not in the memory's warm-up (there the line in view carried back is what the memory has).
@@ -1097,6 +1206,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   add_evidence(evidence, &in_vehicle);
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) m = across_gap(in_view, in_vehicle);
+  if (!m) m = around_corner(in_view, in_vehicle);
   if (!m) {
     // Not yet on remembered tape: what is remembered nearest ahead, carried back.
     if (std::optional<LineMeasurement> ahead = from_tape_ahead(in_view, in_vehicle)) {

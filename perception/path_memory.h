@@ -151,6 +151,11 @@ struct PathMemoryOptions {
   // leg, carried back 40 mm off the arc under the vehicle, for that tape (agv evaluate seed 4,
   // sequence 10: 97 mm tape, a corner of R 0.27 m, up to 45 mm off once that leg was found).
   double carry_forward_max_width_m = 0.03;
+  // Across a corner's stretch never seen (around_corner): the two ends within this of the last
+  // course carried on (or a tape width), one circle through both within corner_max_rms_m. A
+  // band of 0 turns this off.
+  double corner_band_m = 0.02;
+  double corner_max_rms_m = 0.0008;
   // Where no remembered tape gives the errors and the line in view, carried back, lies more than
   // hold_course_offset_m across from the course measured under the vehicle at most hold_course_m
   // ago: that course carried forward, flagged extrapolated (a fork's other way or another leg
@@ -312,6 +317,24 @@ class PathMemory {
   // by more than max_gap_turn_rad and that line passes within max_gap_offset_m of the end behind.
   std::optional<LineMeasurement> across_gap(const LineMeasurement& in_view,
                                             const std::vector<Eigen::Vector2d>& in_vehicle) const;
+  // Inside a corner, whose stretch under the vehicle the camera (looking along the vehicle's
+  // heading, outside the arc) never saw: the tape remembered nearest behind the origin and
+  // nearest ahead of it (each over gap_end_m, within a tape width or corner_band_m of the last
+  // course carried on, the gap at most max_gap_m along it) fitted with one circle (from that
+  // course); where the circle holds both ends (corner_max_rms_m, nine in ten of their points),
+  // it is the tape under the vehicle. Else, where the corner ends in the gap, its arc carried on
+  // into the line of the tape ahead (line_after_arc): that tape within the band, or, where none
+  // is (the way out of a tight corner leaves the band at once), the tape nearest ahead of the
+  // vehicle (within max_gap_m ahead and window_across_m across, over gap_end_m). Only after a
+  // course of a corner's curvature (carry_forward_min_curvature_1_m).
+  std::optional<LineMeasurement> around_corner(
+      const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const;
+  // around_corner's other case, the corner ending in the gap: the points `ahead` (vehicle frame)
+  // on one line (within 3 corner_max_rms_m) that touches `arc` carried on (its centre that
+  // line's distance from it within bridge_arc_meets_m) behind them. The tape under the vehicle
+  // is then the arc up to the tangent point, the line beyond; nullopt where they do not meet so.
+  std::optional<CurveModel> line_after_arc(const CurveModel& arc,
+                                           const std::vector<Eigen::Vector2d>& ahead) const;
   // After the memory's warm-up (a course measured under the vehicle before), where the remembered
   // tape reaches no further back than the origin (fewer than side_points points within window_m
   // behind it) but starts within ahead_max_gap_m ahead of it: `in_view` with its errors from one
