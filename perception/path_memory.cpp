@@ -706,8 +706,8 @@ std::optional<LineMeasurement> PathMemory::around_corner(
         10 * fit.inlier_count >= 9 * static_cast<int>(ends.size()) &&
         !runs_against_the_vehicle(fit.model))
       return with_model(in_view, fit.model);
-    if (const std::optional<CurveModel> joined = line_after_arc(course, ahead))
-      return with_model(in_view, *joined);
+    const std::optional<CurveModel> joined = line_after_arc(course, ahead);
+    if (joined && !runs_against_the_vehicle(*joined)) return with_model(in_view, *joined);
   }
   // The corner ends in the gap and its way out runs off the arc at once (a tight corner: out of
   // the band): the tape nearest ahead of the vehicle (within max_gap_m ahead, window_across_m
@@ -728,9 +728,9 @@ std::optional<LineMeasurement> PathMemory::around_corner(
     observed_ahead += points_[i].observations;
   }
   if (observed_ahead < options_.min_points) return std::nullopt;
-  if (const std::optional<CurveModel> joined = line_after_arc(course, ahead))
-    return with_model(in_view, *joined);
-  return std::nullopt;
+  const std::optional<CurveModel> joined = line_after_arc(course, ahead);
+  if (!joined || runs_against_the_vehicle(*joined)) return std::nullopt;
+  return with_model(in_view, *joined);
 }
 
 std::optional<CurveModel> PathMemory::line_after_arc(
@@ -750,8 +750,8 @@ std::optional<CurveModel> PathMemory::line_after_arc(
     residual = std::max(residual, std::abs(normal.dot(p - mean)));
   if (residual > 3.0 * options_.corner_max_rms_m) return std::nullopt;  // not straight
   // The arc's centre lies its radius from that line, on the arc's inner side (the line is tangent
-  // to it), within bridge_arc_meets_m; the tangent point lies ahead of the arc's remembered end
-  // and behind the points ahead.
+  // to it), within bridge_arc_meets_m; the tangent point lies behind the points ahead (not
+  // beyond them: there the line would start where tape is already remembered off it).
   const double k = arc.curvature_1_m;
   const Eigen::Vector2d centre = arc.foot_point() + arc.normal() / k;
   const double centre_side = normal.dot(centre - mean);  // + : left of the line

@@ -890,14 +890,6 @@ TEST(PathMemory, PastACornerTheUnseenTapeIsItsArcThenTheLineAhead) {
   EXPECT_LT(drive_window({}, 0.2).extrapolated, drive_window(cubic, 0.2).extrapolated);
 }
 
-// A corner of R 0.2 m turning 112 deg, the window showing its outgoing leg in the turn and that
-// leg's line carried back as the line in view; the stretch from the corner's end into that leg
-// never seen. Without the corner's arc and the leg joined across it (corner_band_m 0), the arc
-// is carried forward: how far the memory's errors stray there is the corner's, not the tape's
-// width: 97 mm tape within 0.5 mm of 30 mm tape at worst (both measured 12.45 mm, where the arc
-// carried forward meets the way out). Where the test of whether the line in view runs on from
-// the arc took the whole width of 97 mm tape, the leg carried back was taken for the tape under
-// the vehicle: 30.0 mm. With them joined: 0.94 mm at worst for either width.
 // Corners of R 0.14 m (as agv evaluate seed 3 sequence 0 has) and R 0.25 m turning 132 deg, the
 // window showing the way out in the turn and that leg carried back as the line in view: the
 // stretch from the corner's end into the way out is never seen. The corner's arc, carried on,
@@ -917,6 +909,14 @@ TEST(PathMemory, WhereACornerEndsUnseenItsArcRunsIntoTheLineAhead) {
   }
 }
 
+// A corner of R 0.2 m turning 112 deg, the window showing its outgoing leg in the turn and that
+// leg's line carried back as the line in view; the stretch from the corner's end into that leg
+// never seen. Without the corner's arc and the leg joined across it (corner_band_m 0), the arc
+// is carried forward: how far the memory's errors stray there is the corner's, not the tape's
+// width: 97 mm tape within 0.5 mm of 30 mm tape at worst (both measured 12.45 mm, where the arc
+// carried forward meets the way out). Where the test of whether the line in view runs on from
+// the arc took the whole width of 97 mm tape, the leg carried back was taken for the tape under
+// the vehicle: 30.0 mm. With them joined: 0.94 mm at worst for either width.
 TEST(PathMemory, AWideCornersOutgoingLegInViewIsNoMoreTakenForTheTapeUnderTheVehicle) {
   PathMemoryOptions carried;
   carried.corner_band_m = 0.0;
