@@ -1057,8 +1057,10 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
   };
   std::vector<Candidate> candidates;
   int other_side = 0;  // chords that look the same but leave on the other side
+  const double slightly_wider_m =
+      w + std::max(options_.overlap_slightly_wider_m, options_.overlap_slightly_wider * w);
   for (int index : line.chords) {
-    if ((*used)[index] || clean[index]) continue;
+    if ((*used)[index]) continue;
     const Chord& chord = detection.chords[index];
     const Eigen::Vector2d across = chord.a - chord.b;
     const Eigen::Vector2d ahead = course.unit_direction_at(chord.centre());
@@ -1066,15 +1068,31 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     const Eigen::Vector2d in_view = model.unit_direction_at(chord.centre());
     const double width_m = std::abs(left.dot(across));
     const double width_in_view_m = std::abs(in_view.x() * across.y() - in_view.y() * across.x());
-    if (width_m <= wider_than_tape_m || width_m >= 2.0 * w || width_in_view_m <= wider_than_tape_m)
-      continue;
-    // One edge on the course's edge, the other beyond its other edge: a leg leaving there.
     const double da = course.signed_distance(chord.a), db = course.signed_distance(chord.b);
-    const bool a_on = std::abs(std::abs(da) - 0.5 * w) <= edge_tolerance_m;
-    const bool b_on = std::abs(std::abs(db) - 0.5 * w) <= edge_tolerance_m;
-    if (a_on == b_on) continue;
-    const double on_m = a_on ? da : db, off_m = a_on ? db : da;
-    if (!(on_m * off_m < 0.0) || std::abs(off_m) <= 0.5 * w + edge_tolerance_m) continue;
+    if (!(da * db < 0.0)) continue;  // both edges on one side of the course
+    bool a_on = false;               // which edge lies on the course's edge
+    if (!clean[index]) {
+      // One edge on the course's edge, the other beyond its other edge: a leg leaving there.
+      if (width_m <= wider_than_tape_m || width_m >= 2.0 * w ||
+          width_in_view_m <= wider_than_tape_m)
+        continue;
+      a_on = std::abs(std::abs(da) - 0.5 * w) <= edge_tolerance_m;
+      const bool b_on = std::abs(std::abs(db) - 0.5 * w) <= edge_tolerance_m;
+      if (a_on == b_on || std::abs(a_on ? db : da) <= 0.5 * w + edge_tolerance_m) continue;
+    } else {
+      // A clean chord only a little wider than the tape (the overlap's first stretch, where its
+      // midpoint would run at half the leaving leg's offset): the edge nearer the course's edge
+      // on it, the other beyond the course's other edge by more than half the least excess and
+      // twice the first edge's distance from its own.
+      if (width_m <= slightly_wider_m || width_in_view_m <= slightly_wider_m) continue;
+      const double a_out = std::abs(da) - 0.5 * w, b_out = std::abs(db) - 0.5 * w;
+      a_on = std::abs(a_out) < std::abs(b_out);
+      const double on_out = a_on ? a_out : b_out, off_out = a_on ? b_out : a_out;
+      if (std::abs(on_out) > edge_tolerance_m || off_out <= 0.5 * (slightly_wider_m - w) ||
+          off_out <= 2.0 * std::abs(on_out))
+        continue;
+    }
+    const double off_m = a_on ? db : da;
     if ((off_m > 0.0) != chosen_left) {
       ++other_side;
       continue;

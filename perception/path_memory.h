@@ -95,6 +95,15 @@ struct PathMemoryOptions {
   // 4.6 mm RMS without these two tests). Not for the way straight on: one edge of worn tape
   // (datasets/yellow_junction_worn) put its centre 0.2-0.8 mm off, where the line in view carried
   // back was within 0.1 mm.
+  // The overlap's first stretch: a clean chord (both edges on the line in view) wider than the
+  // tape by more than overlap_slightly_wider tape widths (and overlap_slightly_wider_m), whose
+  // edge nearer the course's edge lies on it and whose other edge lies beyond the other edge,
+  // counts as such a chord too (its midpoint, evidence otherwise, ran at half the leaving leg's
+  // offset: a preview of half the branch's curvature before the split, and the tape under the
+  // vehicle read straight there for a frame or two; the fork sweep, runs settled within 1 s: left
+  // 2 -> 5 of 18, right 2 -> 8). 1 or more turns this off.
+  double overlap_slightly_wider = 0.02;
+  double overlap_slightly_wider_m = 0.0005;
   double overlap_edge_tolerance = 0.1;
   double overlap_same_side = 0.9;
   double overlap_min_correlation = 0.7;

@@ -1423,23 +1423,27 @@ TEST(PathMemory, TheTapeOnOneSideIsReadOnlyOnWheelOdometryAfterTheWarmUpAndNearT
 // measured), then a frame in which a branch leaves it 0.25 m ahead to the left (R 0.6 m,
 // tangentially), seen as one line only: up to where they part, each scan line crosses both legs
 // at once, from the straight tape's right edge to the branch's left edge, no chord clean, no
-// other line, no junction. Taking the branch (kLeft), the memory keeps the branch's centre there:
-// the outer (left) edge moved half a width across the course. Off the branch's centre line by
-// w theta^2 / 4 (theta its turn from the course, moved across the course, not the branch: 0.3
-// mm at theta 0.2 rad, 30 mm wide tape), so checked within 0.35 mm up to 0.12 m past the fork
-// (theta 0.2): 16 of them (every 4 mm from 0.06 m; nearer the fork the chords are within
-// chord_width_tolerance of the tape and give nothing). Going straight on (kStraight) or taking
-// the right (kRight), nothing there (one edge of worn tape is no surer than the line in view).
-// The same mirrored (the branch leaving to the right) for kRight and kStraight.
+// other line, no junction (a chord within 6 % of the tape's width counts as clean, as a fit
+// through both edges takes it). Taking the branch (kLeft), the memory keeps the branch's centre
+// there: the outer (left) edge moved half a width across the course. Off the branch's centre line
+// by w theta^2 / 4 (theta its turn from the course, moved across the course, not the branch: 0.3
+// mm at theta 0.2 rad, 30 mm wide tape), so checked within 0.35 mm from 0.027 to 0.12 m past
+// the fork (theta 0.2): 21 of them (every 4 mm; from 0.027 m the chords are wider than the tape
+// by more than overlap_slightly_wider, 0.6 mm; nearer the fork their midpoints, within 0.25 mm;
+// without the clean chords read so, those from 0.027 to 0.044 m lie 0.3-0.8 mm inside the
+// branch, at half its offset). Going straight on (kStraight) or taking the right (kRight),
+// nothing beyond the overlap's first stretch (one edge of worn tape is no surer than the line in
+// view). The same mirrored (the branch leaving to the right) for kRight and kStraight.
 // Where the widening comes on either side at random, or on one side by random amounts that do
-// not grow along the tape (a blotchy floor beside it), nothing.
+// not grow along the tape (a blotchy floor beside it), nothing beyond it either.
 enum class Overlap { kBranchLeft, kBranchRight, kBlotchy, kBlotchyLeft };
 bool before_the_fork(double s_m) { return s_m <= 0.66; }  // 0.41 m driven + 0.25 m ahead
 
-std::vector<Eigen::Vector2d> remembered_after_an_overlap(Overlap overlap, BranchChoice choice) {
+std::vector<Eigen::Vector2d> remembered_after_an_overlap(Overlap overlap, BranchChoice choice,
+                                                         const PathMemoryOptions& options = {}) {
   constexpr double kForkX = 0.25, kRadius = 0.6, w = kTapeWidthM;
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
-  PathMemory memory;
+  PathMemory memory(options);
   LineMeasurement in_view;
   in_view.line_found = true;
   for (int k = 0; k <= 40; ++k) {
@@ -1476,7 +1480,9 @@ std::vector<Eigen::Vector2d> remembered_after_an_overlap(Overlap overlap, Branch
     }
     d.chords.push_back({{x, left}, {x, right}});
     line.chords.push_back(static_cast<int>(d.chords.size()) - 1);
-    if (x <= kForkX) line.clean_chords.push_back(line.chords.back());
+    // Clean where it spans one tape, or one only a little wider (as a fit through both edges
+    // takes the overlap's first stretch).
+    if (x <= kForkX || left - right <= 1.06 * w) line.clean_chords.push_back(line.chords.back());
   }
   line.width_m = w;
   line.s_min_m = 0.17;
@@ -1487,35 +1493,42 @@ std::vector<Eigen::Vector2d> remembered_after_an_overlap(Overlap overlap, Branch
   memory.update(in_view, d, Pose2{s_vehicle, 0.0, 0.0});
   std::vector<Eigen::Vector2d> points = memory.points_in_vehicle_frame();
   // Those of the overlap, in the frame of the fork (x along the straight tape from it).
-  std::erase_if(points, [&](const Eigen::Vector2d& p) { return p.x() < kForkX + 0.05; });
+  std::erase_if(points, [&](const Eigen::Vector2d& p) { return p.x() < kForkX + 0.02; });
   for (Eigen::Vector2d& p : points) p.x() -= kForkX;
   return points;
 }
 
 TEST(PathMemory, WhereAForksLegsOverlapUnseenApartTheChosenLegIsRemembered) {
-  // The points up to 0.12 m past the fork, each checked against the branch's centre line (a
+  // The points 0.027-0.12 m past the fork, each checked against the branch's centre line (a
   // circle of R 0.6 m about (0, centre_y)); how many.
   auto on_branch = [](const std::vector<Eigen::Vector2d>& points, double centre_y) {
     constexpr double kRadius = 0.6;
     int checked = 0;
     for (const Eigen::Vector2d& p : points) {
-      if (p.x() > 0.1205) continue;
+      if (p.x() < 0.027 || p.x() > 0.1205) continue;
       EXPECT_NEAR(std::hypot(p.x(), p.y() - centre_y) - kRadius, 0.0, 3.5e-4) << p.transpose();
       ++checked;
     }
     return checked;
   };
+  // Beyond the overlap's first stretch (0.05 m past the fork), nothing.
+  auto none_beyond = [](const std::vector<Eigen::Vector2d>& points) {
+    return std::none_of(points.begin(), points.end(),
+                        [](const Eigen::Vector2d& p) { return p.x() > 0.05; });
+  };
   EXPECT_GE(on_branch(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kLeft), 0.6),
-            16);
-  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kStraight).empty());
-  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kRight).empty());
+            21);
+  EXPECT_TRUE(
+      none_beyond(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kStraight)));
+  EXPECT_TRUE(none_beyond(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kRight)));
   // Mirrored: the branch leaves to the right.
   EXPECT_GE(
       on_branch(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kRight), -0.6),
-      16);
-  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kStraight).empty());
-  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBlotchy, BranchChoice::kLeft).empty());
-  EXPECT_TRUE(remembered_after_an_overlap(Overlap::kBlotchyLeft, BranchChoice::kLeft).empty());
+      21);
+  EXPECT_TRUE(
+      none_beyond(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kStraight)));
+  EXPECT_TRUE(none_beyond(remembered_after_an_overlap(Overlap::kBlotchy, BranchChoice::kLeft)));
+  EXPECT_TRUE(none_beyond(remembered_after_an_overlap(Overlap::kBlotchyLeft, BranchChoice::kLeft)));
 }
 
 }  // namespace
