@@ -743,7 +743,7 @@ std::optional<CurveModel> PathMemory::line_after_arc(
   for (const Eigen::Vector2d& p : ahead) scatter += (p - mean) * (p - mean).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(scatter);
   Eigen::Vector2d direction = eigen.eigenvectors().col(1);
-  if (direction.dot(arc.tangent_at(arc.arc_position(mean))) < 0.0) direction = -direction;
+  if (direction.dot(arc.prepared().unit_direction_at(mean)) < 0.0) direction = -direction;
   const Eigen::Vector2d normal(-direction.y(), direction.x());
   double residual = 0.0;
   for (const Eigen::Vector2d& p : ahead)
