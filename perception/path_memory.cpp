@@ -263,6 +263,8 @@ void PathMemory::reset() {
   corner_passed_at_m_.reset();
   recent_headings_.clear();
   last_course_.reset();
+  last_corner_course_.reset();
+  read_off_corner_ = false;
 }
 
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
@@ -660,11 +662,15 @@ std::optional<LineMeasurement> PathMemory::across_gap(
 
 std::optional<LineMeasurement> PathMemory::around_corner(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
-  // Only after a course measured on a corner's arc: the circle is started from it.
-  if (options_.corner_band_m <= 0.0 || !last_course_ ||
-      std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
-    return std::nullopt;
-  const CurveModel course = last_course_now();
+  // Only after a course measured on a corner's arc: the circle is started from it. Where the last
+  // frame read the way out off that arc here (the line after it, below), it is still the
+  // corner's, within max_gap_m driven.
+  const bool on_arc = last_course_ && std::abs(last_course_->curvature_1_m) >=
+                                          options_.carry_forward_min_curvature_1_m;
+  const bool read_off = read_off_corner_ && last_corner_course_ &&
+                        odometer_m_ - last_corner_course_->odometer_m <= options_.max_gap_m;
+  if (options_.corner_band_m <= 0.0 || !(on_arc || read_off)) return std::nullopt;
+  const CurveModel course = course_now(*last_corner_course_);
   const CurveModel::Prepared along = course.prepared();
   const double band_m = std::max(options_.corner_band_m, tape_width_m_);
   // Arc positions along the course (carried on from where it was measured) of the points near
@@ -1224,7 +1230,12 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   add_evidence(evidence, &in_vehicle);
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) m = across_gap(in_view, in_vehicle);
-  if (!m) m = around_corner(in_view, in_vehicle);
+  bool off_corner = false;
+  if (!m) {
+    m = around_corner(in_view, in_vehicle);
+    off_corner = m.has_value();
+  }
+  read_off_corner_ = off_corner;
   if (!m) {
     // Not yet on remembered tape: what is remembered nearest ahead, carried back.
     if (std::optional<LineMeasurement> ahead = from_tape_ahead(in_view, in_vehicle)) {
@@ -1297,6 +1308,8 @@ void PathMemory::remember_heading(const LineMeasurement& m) {
   const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
   last_course_ = Course{vehicle_.transform(model.foot_point()), *tape_heading_rad_, m.curvature_1_m,
                         odometer_m_};
+  if (std::abs(m.curvature_1_m) >= options_.carry_forward_min_curvature_1_m)
+    last_corner_course_ = last_course_;
 }
 
 std::optional<LineMeasurement> PathMemory::course_carried_on(const LineMeasurement& m) const {
@@ -1377,11 +1390,12 @@ bool PathMemory::near_course_carried_forward(const CurveModel& fitted) const {
              options_.ahead_course_offset_m + turn_tolerance_rad * driven_m;
 }
 
-CurveModel PathMemory::last_course_now() const {
-  return curve_through_point(vehicle_.inverse().transform(last_course_->foot_m),
-                             last_course_->heading_rad - vehicle_.yaw_rad,
-                             last_course_->curvature_1_m);
+CurveModel PathMemory::course_now(const Course& course) const {
+  return curve_through_point(vehicle_.inverse().transform(course.foot_m),
+                             course.heading_rad - vehicle_.yaw_rad, course.curvature_1_m);
 }
+
+CurveModel PathMemory::last_course_now() const { return course_now(*last_course_); }
 
 LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
                                             const LineDetection& detection) {

@@ -335,7 +335,10 @@ class PathMemory {
   // into the line of the tape ahead (line_after_arc): that tape within the band, or, where none
   // is (the way out of a tight corner leaves the band at once), the tape nearest ahead of the
   // vehicle (within max_gap_m ahead and window_across_m across, over gap_end_m). Only after a
-  // course of a corner's curvature (carry_forward_min_curvature_1_m).
+  // course of a corner's curvature (carry_forward_min_curvature_1_m), or where the last frame's
+  // errors came from here (the line after the arc: the course then that line) within max_gap_m
+  // driven since the corner's course (agv evaluate seed 3, sequence 0: a crossing tape hid the
+  // way out, the line in view, an arc beyond, carried back 15.9 mm off).
   std::optional<LineMeasurement> around_corner(
       const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // around_corner's other case, the corner ending in the gap: the points `ahead` (vehicle frame)
@@ -429,6 +432,11 @@ class PathMemory {
     double heading_rad, curvature_1_m, odometer_m;
   };
   std::optional<Course> last_course_;
+  // The last such course on a corner's arc (curvature at least carry_forward_min_curvature_1_m).
+  std::optional<Course> last_corner_course_;
+  bool read_off_corner_ = false;  // the last frame's errors came from around_corner
+  // `course` moved to this frame's origin.
+  CurveModel course_now(const Course& course) const;
   OdometryKind odometry_kind_ = OdometryKind::wheels;  // of the last update's motion
   // Scratch for register_to: one row per remembered point on the tape in view, d + j delta = 0
   // (d its distance from the evidence's local course), counting as its observations.
