@@ -687,7 +687,11 @@ std::optional<LineMeasurement> PathMemory::around_corner(
     else
       first_ahead = std::min(first_ahead, s);
   }
-  if (!std::isfinite(last_behind) || -last_behind > options_.max_gap_m) return std::nullopt;
+  // No tape remembered along the course within max_gap_m behind (a tight corner under a low
+  // camera, its arc never seen): the course alone, measured within max_gap_m driven, is the arc.
+  const bool seen_behind = std::isfinite(last_behind) && -last_behind <= options_.max_gap_m;
+  if (!seen_behind && odometer_m_ - last_corner_course_->odometer_m > options_.max_gap_m)
+    return std::nullopt;
   std::vector<Eigen::Vector2d> ends, ahead;
   int observed[2] = {0, 0};
   for (size_t i = 0; i < in_vehicle.size(); ++i) {
@@ -700,8 +704,9 @@ std::optional<LineMeasurement> PathMemory::around_corner(
     if (end == 1) ahead.push_back(in_vehicle[i]);
     observed[end] += points_[i].observations;
   }
-  if (observed[0] < options_.min_points) return std::nullopt;
-  if (observed[1] >= options_.min_points && first_ahead - last_behind <= options_.max_gap_m) {
+  if (seen_behind && observed[0] < options_.min_points) return std::nullopt;
+  if (seen_behind && observed[1] >= options_.min_points &&
+      first_ahead - last_behind <= options_.max_gap_m) {
     // One circle (or line) through both ends, from the course: it must hold nine in ten of their
     // points (the tape ahead may already be the straight after the corner: then it does not).
     CurveFitOptions fit_options;

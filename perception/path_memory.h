@@ -334,11 +334,14 @@ class PathMemory {
   // it is the tape under the vehicle. Else, where the corner ends in the gap, its arc carried on
   // into the line of the tape ahead (line_after_arc): that tape within the band, or, where none
   // is (the way out of a tight corner leaves the band at once), the tape nearest ahead of the
-  // vehicle (within max_gap_m ahead and window_across_m across, over gap_end_m). Only after a
-  // course of a corner's curvature (carry_forward_min_curvature_1_m), or where the last frame's
-  // errors came from here (the line after the arc: the course then that line) within max_gap_m
-  // driven since the corner's course (agv evaluate seed 3, sequence 0: a crossing tape hid the
-  // way out, the line in view, an arc beyond, carried back 15.9 mm off).
+  // vehicle (within max_gap_m ahead and window_across_m across, over gap_end_m); where no tape
+  // is remembered along the course within max_gap_m behind (a low camera saw the arc only in
+  // glimpses: agv evaluate seed 5, sequence 8), the course alone, measured within max_gap_m
+  // driven, runs into that tape. Only after a course of a corner's curvature
+  // (carry_forward_min_curvature_1_m), or where the last frame's errors came from here (the line
+  // after the arc: the course then that line) within max_gap_m driven since the corner's course
+  // (agv evaluate seed 3, sequence 0: a crossing tape hid the way out, the line in view, an arc
+  // beyond, carried back 15.9 mm off).
   std::optional<LineMeasurement> around_corner(
       const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // around_corner's other case, the corner ending in the gap: the points `ahead` (vehicle frame)
