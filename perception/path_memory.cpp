@@ -662,11 +662,11 @@ std::optional<LineMeasurement> PathMemory::across_gap(
 
 std::optional<LineMeasurement> PathMemory::around_corner(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
-  // Only after a course measured on a corner's arc: the circle is started from it. Where the last
-  // frame read the way out off that arc here (the line after it, below), it is still the
-  // corner's, within max_gap_m driven.
-  const bool on_arc = last_course_ && std::abs(last_course_->curvature_1_m) >=
-                                          options_.carry_forward_min_curvature_1_m;
+  // Only after a course measured on an arc: the circle is started from it. Where the last frame
+  // read the way out off that arc here (the line after it, below), it is still the arc's, within
+  // max_gap_m driven.
+  const bool on_arc =
+      last_course_ && std::abs(last_course_->curvature_1_m) >= options_.corner_min_curvature_1_m;
   const bool read_off = read_off_corner_ && last_corner_course_ &&
                         odometer_m_ - last_corner_course_->odometer_m <= options_.max_gap_m;
   if (options_.corner_band_m <= 0.0 || !(on_arc || read_off)) return std::nullopt;
@@ -1313,7 +1313,7 @@ void PathMemory::remember_heading(const LineMeasurement& m) {
   const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
   last_course_ = Course{vehicle_.transform(model.foot_point()), *tape_heading_rad_, m.curvature_1_m,
                         odometer_m_};
-  if (std::abs(m.curvature_1_m) >= options_.carry_forward_min_curvature_1_m)
+  if (std::abs(m.curvature_1_m) >= options_.corner_min_curvature_1_m)
     last_corner_course_ = last_course_;
 }
 

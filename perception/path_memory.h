@@ -165,6 +165,10 @@ struct PathMemoryOptions {
   // band of 0 turns this off.
   double corner_band_m = 0.02;
   double corner_max_rms_m = 0.0008;
+  // ... after a course measured on an arc at least this curved (R 0.67 m): the end of a wider
+  // arc than a corner's is read so too (agv evaluate seed 5, sequence 2: a R 0.52 m arc left by
+  // a camera 0.12 m up, the line after it carried back up to 4.4 mm / 7.5 deg off).
+  double corner_min_curvature_1_m = 1.5;
   // Where no remembered tape gives the errors and the line in view, carried back, lies more than
   // hold_course_offset_m across from the course measured under the vehicle at most hold_course_m
   // ago: that course carried forward, flagged extrapolated (a fork's other way or another leg
@@ -337,11 +341,10 @@ class PathMemory {
   // vehicle (within max_gap_m ahead and window_across_m across, over gap_end_m); where no tape
   // is remembered along the course within max_gap_m behind (a low camera saw the arc only in
   // glimpses: agv evaluate seed 5, sequence 8), the course alone, measured within max_gap_m
-  // driven, runs into that tape. Only after a course of a corner's curvature
-  // (carry_forward_min_curvature_1_m), or where the last frame's errors came from here (the line
-  // after the arc: the course then that line) within max_gap_m driven since the corner's course
-  // (agv evaluate seed 3, sequence 0: a crossing tape hid the way out, the line in view, an arc
-  // beyond, carried back 15.9 mm off).
+  // driven, runs into that tape. Only after a course of an arc (corner_min_curvature_1_m), or
+  // where the last frame's errors came from here (the line after the arc: the course then that
+  // line) within max_gap_m driven since the arc's course (agv evaluate seed 3, sequence 0: a
+  // crossing tape hid the way out, the line in view, an arc beyond, carried back 15.9 mm off).
   std::optional<LineMeasurement> around_corner(
       const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const;
   // around_corner's other case, the corner ending in the gap: the points `ahead` (vehicle frame)
@@ -435,7 +438,7 @@ class PathMemory {
     double heading_rad, curvature_1_m, odometer_m;
   };
   std::optional<Course> last_course_;
-  // The last such course on a corner's arc (curvature at least carry_forward_min_curvature_1_m).
+  // The last such course on an arc (curvature at least corner_min_curvature_1_m).
   std::optional<Course> last_corner_course_;
   bool read_off_corner_ = false;  // the last frame's errors came from around_corner
   // `course` moved to this frame's origin.

@@ -953,6 +953,20 @@ TEST(PathMemory, WhereACornersArcIsNoMoreRememberedItsCourseRunsIntoTheLineAhead
   }
 }
 
+// The same with an arc of R 0.6 m turning 40 deg: no corner, but its end unseen all the same.
+// Measured 0.68 mm / 0.73 deg at worst; read so only after arcs of R 0.5 m or tighter
+// (corner_min_curvature_1_m 2), the line in view carried back, 5.0 mm / 4.7 deg.
+TEST(PathMemory, WhereAWideArcIsNoMoreRememberedItsCourseRunsIntoTheLineAheadToo) {
+  PathMemoryOptions short_memory;
+  short_memory.keep_behind_m = 0.04;
+  const double end_m = kWindowCornerStart_m + 0.6 * deg_to_rad(40.0);
+  const WindowDrive worn =
+      drive_window(short_memory, 0.6, 40.0, kTapeWidthM, false, {end_m - 0.1, end_m + 0.02});
+  EXPECT_EQ(worn.lost, 0);
+  EXPECT_LE(worn.max_e_d_error_m, 0.001);
+  EXPECT_LE(rad_to_deg(worn.max_e_theta_error_rad), 1.0);
+}
+
 // A corner of R 0.2 m turning 112 deg, the window showing its outgoing leg in the turn and that
 // leg's line carried back as the line in view; the stretch from the corner's end into that leg
 // never seen. Without the corner's arc and the leg joined across it (corner_band_m 0), the arc
