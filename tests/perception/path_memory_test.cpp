@@ -859,8 +859,8 @@ WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_
 // gap not bridged (max_gap_m 0), those frames are carried back from the view (5 mm off here).
 // With evidence kept by frames (40, as it was) rather than by distance, the remembered tape under
 // the vehicle ages out before the vehicle reaches it (the window saw it 0.43 m ahead): the course
-// last measured on the corner's arc then runs into the line ahead (around_corner), as within 0.5
-// mm and 1 deg (measured 0.10 mm / 0.27 deg; a frame carried back, 5 mm off, before that).
+// last measured on the corner's arc then runs into the line ahead (around_corner): within 0.5 mm
+// and 1 deg, as above (measured 0.10 mm / 0.27 deg; a frame carried back, 5 mm off, before that).
 TEST(PathMemory, TapeNeverSeenPastACornerIsBridged) {
   const WindowDrive r = drive_window({});
   EXPECT_EQ(r.lost, 0);
@@ -923,8 +923,9 @@ TEST(PathMemory, WhereACornerEndsUnseenItsArcRunsIntoTheLineAhead) {
 // the corner's end, the line in view carried back 5 mm / 2 deg off: the line after the arc, read
 // off it while the tape ahead is still short of the vehicle, is read off it on from there (the
 // course last measured then being that line, no corner's arc). Measured 0.93 mm / 0.71 deg at
-// worst; read off the arc only in the first frame (the frames after carried back): 5.0 mm / 2.0
-// deg (agv evaluate seed 3, sequence 0: a crossing tape hid the way out, 15.9 mm).
+// worst, bounded by 1.5 mm and 1 deg (under a third and half of the line in view's 5 mm / 2 deg);
+// read off the arc only in the first frame (the frames after carried back): 5.0 mm / 2.0 deg
+// (agv evaluate seed 3, sequence 0: a crossing tape hid the way out, 15.9 mm).
 TEST(PathMemory, PastACornerTheLineReadOffItsArcIsReadOnUntilTheTapeAheadIsReached) {
   const double end_m = kWindowCornerStart_m + 0.14 * deg_to_rad(132.0);
   const WindowDrive worn =
@@ -938,8 +939,8 @@ TEST(PathMemory, PastACornerTheLineReadOffItsArcIsReadOnUntilTheTapeAheadIsReach
 // past it, the memory keeping only 40 mm behind the vehicle (keep_behind_m; as where a low camera
 // saw the corner's arc only in glimpses): no tape remembered behind the vehicle on the arc, only
 // the course last measured on it, which runs into the line ahead. Measured 0.93 and 0.98 mm /
-// 0.71 and 0.43 deg at worst; where the arc was needed in the memory behind the vehicle, the line
-// in view carried back, 5 mm / 2 deg off.
+// 0.71 and 0.43 deg at worst (bounds as above); where the arc was needed in the memory behind the
+// vehicle, the line in view carried back, 5 mm / 2 deg off.
 TEST(PathMemory, WhereACornersArcIsNoMoreRememberedItsCourseRunsIntoTheLineAhead) {
   PathMemoryOptions short_memory;
   short_memory.keep_behind_m = 0.04;
@@ -954,8 +955,9 @@ TEST(PathMemory, WhereACornersArcIsNoMoreRememberedItsCourseRunsIntoTheLineAhead
 }
 
 // The same with an arc of R 0.6 m turning 40 deg: no corner, but its end unseen all the same.
-// Measured 0.68 mm / 0.73 deg at worst; read so only after arcs of R 0.5 m or tighter
-// (corner_min_curvature_1_m 2), the line in view carried back, 5.0 mm / 4.7 deg.
+// Measured 0.68 mm / 0.73 deg at worst (bounds 1 mm, a fifth of the line in view's 5 mm, and 1
+// deg); read so only after arcs of R 0.5 m or tighter (corner_min_curvature_1_m 2), the line in
+// view carried back, 5.0 mm / 4.7 deg.
 TEST(PathMemory, WhereAWideArcIsNoMoreRememberedItsCourseRunsIntoTheLineAheadToo) {
   PathMemoryOptions short_memory;
   short_memory.keep_behind_m = 0.04;
