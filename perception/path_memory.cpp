@@ -302,8 +302,13 @@ void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
   const PathMemoryOptions::Prior& prior = kind == OdometryKind::wheels   ? options_.wheels_prior
                                           : kind == OdometryKind::frames ? options_.frames_prior
                                                                          : options_.guess_prior;
-  const double sigma_t = prior.shift_m + options_.prior_shift_per_m * travelled_m;
-  const double sigma_r = prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m;
+  // At least a micrometre (and a microradian): a vehicle standing still on wheels (no constant
+  // shift) leaves its memory where it is, and the prior's information finite.
+  constexpr double kMinSigma = 1e-6;
+  const double sigma_t =
+      std::max(kMinSigma, prior.shift_m + options_.prior_shift_per_m * travelled_m);
+  const double sigma_r =
+      std::max(kMinSigma, prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m);
   misalignment_cov_.diagonal().head<3>() +=
       Eigen::Vector3d(sigma_r * sigma_r, sigma_t * sigma_t, sigma_t * sigma_t);
   // Along a straight tape the shift along it is never seen: the uncertainty stops at what a

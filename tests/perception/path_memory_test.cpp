@@ -363,6 +363,30 @@ TEST(PathMemory, WornStraightTapeShowsNoCurvatureChangeAhead) {
               from_memory);
 }
 
+// A vehicle standing still on wheel odometry from the first frame (no distance rolled, so no
+// misalignment the odometry can have made), then driving off: the memory stays where it is and
+// then reads the tape under the vehicle as ever. Its prior once had no information left to
+// invert there: NaN in the memory (UndefinedBehaviorSanitizer stopped `agv record` of
+// scenarios/mount_tags.yaml, whose vehicle stands) and no reading from it after.
+TEST(PathMemory, AVehicleStandingStillKeepsItsMemory) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory;
+  int from_memory = 0;
+  for (int k = 0; k < 50; ++k) {
+    const double s = k < 10 ? 0.05 : 0.05 + 0.01 * (k - 10);  // standing, then driving off
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    const LineMeasurement m = memory.update(in_view, seen_from(path, vehicle, s), vehicle);
+    ASSERT_TRUE(m.line_found && std::isfinite(m.e_d_m) && std::isfinite(m.e_theta_rad)) << k;
+    if (m.extrapolated) continue;
+    ++from_memory;
+    EXPECT_NEAR(m.e_d_m, 0.0, 1e-4) << k;
+    EXPECT_NEAR(m.e_theta_rad, 0.0, 1e-3) << k;
+  }
+  EXPECT_GE(from_memory, 15);  // once the tape seen first (0.17 m ahead) is under the vehicle
+}
+
 // Poor odometry (3 % scale error, 0.6 deg of heading drift per metre: six times the default
 // scenario's): without registration the vehicle is 1.6 mm / 0.48 deg off the tape by the time it
 // drives over it; registering each frame's evidence to the remembered tape removes most of it.
