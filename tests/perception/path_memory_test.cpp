@@ -925,26 +925,32 @@ TEST(PathMemory, PastACornerTheUnseenTapeIsItsArcThenTheLineAhead) {
   EXPECT_LT(drive_window({}, 0.2).extrapolated, drive_window(cubic, 0.2).extrapolated);
 }
 
+// What the corner bridges below must give: no frame lost, every frame within 2 mm and 1.2 deg at
+// the vehicle (under half and three fifths of the line in view's 5 mm / 2 deg, which is what
+// those frames read without the bridge).
+void expect_bridged(const WindowDrive& r, double radius_m) {
+  EXPECT_EQ(r.lost, 0) << radius_m;
+  EXPECT_LE(r.max_e_d_error_m, 0.002) << radius_m;
+  EXPECT_LE(rad_to_deg(r.max_e_theta_error_rad), 1.2) << radius_m;
+}
+
 // Corners of R 0.14 m (as agv evaluate seed 3 sequence 0 has) and R 0.25 m turning 132 deg, the
 // window showing the way out in the turn and that leg carried back as the line in view: the
 // stretch from the corner's end into the way out is never seen. The corner's arc, carried on,
 // touches the line through the tape remembered nearest ahead (the way out): the tape under the
 // vehicle is the arc up to there, that line beyond (measured 1.69 and 0.87 mm / 1.10 and 0.34 deg
-// at worst; bounds 2 mm and 1.2 deg, under half and three fifths of the line in view's 5 mm / 2
-// deg). Without (corner_band_m 0) the arc is carried forward past its end, or the way out carried
-// back: 13.7 and 41.4 mm. The worst frames lie where the way out is read off the arc: the memory
-// there is 0.5-1.7 mm off on exact odometry, moved by registrations against a window that holds
-// the R 0.14 m arc while its line has no curvature (this drive gives its line none), which a
-// registration undoes only as far as the odometry's prior lets it (PathMemoryOptions::
-// wheels_prior: 0.93 mm / 0.71 deg with 0.2 mm more a frame).
+// at worst; bounds as expect_bridged says). Without (corner_band_m 0) the arc is carried forward
+// past its end, or the way out carried back: 13.7 and 41.4 mm. The worst frames lie where the way
+// out is read off the arc: the memory there is 0.5-1.7 mm off on exact odometry, moved by
+// registrations against a window that holds the R 0.14 m arc while its line has no curvature (this
+// drive gives its line none), which a registration undoes only as far as the odometry's prior lets
+// it (PathMemoryOptions::wheels_prior: 0.93 mm / 0.71 deg with 0.2 mm more a frame).
 TEST(PathMemory, WhereACornerEndsUnseenItsArcRunsIntoTheLineAhead) {
   PathMemoryOptions off;
   off.corner_band_m = 0.0;
   for (double radius_m : {0.14, 0.25}) {
     const WindowDrive joined = drive_window({}, radius_m, 132.0, kTapeWidthM, true);
-    EXPECT_EQ(joined.lost, 0);
-    EXPECT_LE(joined.max_e_d_error_m, 0.002) << radius_m;
-    EXPECT_LE(rad_to_deg(joined.max_e_theta_error_rad), 1.2) << radius_m;
+    expect_bridged(joined, radius_m);
     EXPECT_GE(drive_window(off, radius_m, 132.0, kTapeWidthM, true).max_e_d_error_m, 0.005);
   }
 }
@@ -960,9 +966,7 @@ TEST(PathMemory, PastACornerTheLineReadOffItsArcIsReadOnUntilTheTapeAheadIsReach
   const double end_m = kWindowCornerStart_m + 0.14 * deg_to_rad(132.0);
   const WindowDrive worn =
       drive_window({}, 0.14, 132.0, kTapeWidthM, false, {end_m + 0.02, end_m + 0.15});
-  EXPECT_EQ(worn.lost, 0);
-  EXPECT_LE(worn.max_e_d_error_m, 0.002);
-  EXPECT_LE(rad_to_deg(worn.max_e_theta_error_rad), 1.2);
+  expect_bridged(worn, 0.14);
 }
 
 // Corners of R 0.14 and 0.25 m turning 132 deg, worn away from 0.1 m before their end to 20 mm
@@ -978,9 +982,7 @@ TEST(PathMemory, WhereACornersArcIsNoMoreRememberedItsCourseRunsIntoTheLineAhead
     const double end_m = kWindowCornerStart_m + radius_m * deg_to_rad(132.0);
     const WindowDrive worn = drive_window(short_memory, radius_m, 132.0, kTapeWidthM, false,
                                           {end_m - 0.1, end_m + 0.02});
-    EXPECT_EQ(worn.lost, 0);
-    EXPECT_LE(worn.max_e_d_error_m, 0.002) << radius_m;
-    EXPECT_LE(rad_to_deg(worn.max_e_theta_error_rad), 1.2) << radius_m;
+    expect_bridged(worn, radius_m);
   }
 }
 
