@@ -211,19 +211,29 @@ class Turn {
 
 // Across a gap just past a corner: the end behind (at x0: value, slope and half the second
 // derivative in `behind`) carried on as an arc at its curvature until it turns to the direction
-// of the end ahead (at x1), then straight on. Where that arc ends within meets_m of the line
-// through the end ahead, between the two ends and behind the origin, the tape at the origin is
-// that line: value, slope and second derivative (0) at x = 0. Else nothing.
+// of the end ahead (at x1), then straight on; where it has turned past that direction already,
+// the arc ends at x0 (the quadratic through a corner's last 40 mm, part arc and part the line
+// after it, overshoots the line's direction at its end: agv evaluate seed 1, sequence 6, 4.4
+// deg, and the cubic across the gap bulged 2.6 mm), only before a straight end ahead (a turn
+// back the other way is an S, not the line after the corner). Where that arc ends within
+// meets_m of the line through the end ahead, between the two ends and behind the origin, the
+// tape at the origin is that line: value, slope and second derivative (0) at x = 0. Else
+// nothing.
 std::optional<Eigen::Vector3d> line_after_corner_arc(double x0, const Eigen::Vector3d& behind,
                                                      double x1, const Eigen::Vector3d& ahead,
                                                      double meets_m) {
   constexpr double kMinCurvature_1_m = 1.0;  // R 1 m: tighter is a corner's arc
   const double h0 = std::atan(behind[1]), h1 = std::atan(ahead[1]);
   const double k0 = 2.0 * behind[2] / std::pow(1.0 + behind[1] * behind[1], 1.5);
-  if (std::abs(k0) < kMinCurvature_1_m || k0 * (h1 - h0) <= 0.0) return std::nullopt;
+  const double k1 = 2.0 * ahead[2] / std::pow(1.0 + ahead[1] * ahead[1], 1.5);
+  if (std::abs(k0) < kMinCurvature_1_m) return std::nullopt;
+  const bool turned_past = k0 * (h1 - h0) <= 0.0;
+  if (turned_past && std::abs(k1) >= kMinCurvature_1_m) return std::nullopt;
   const Eigen::Vector2d start(x0, behind[0]);
   const Eigen::Vector2d centre = start + Eigen::Vector2d(-std::sin(h0), std::cos(h0)) / k0;
-  const Eigen::Vector2d end = centre + Eigen::Vector2d(std::sin(h1), -std::cos(h1)) / k0;
+  const Eigen::Vector2d end =
+      turned_past ? start
+                  : Eigen::Vector2d(centre + Eigen::Vector2d(std::sin(h1), -std::cos(h1)) / k0);
   auto line_y = [&](double x) { return ahead[0] + ahead[1] * (x - x1); };
   if (std::abs(end.y() - line_y(end.x())) * std::cos(h1) > meets_m || end.x() < x0 || end.x() > 0.0)
     return std::nullopt;
