@@ -240,6 +240,29 @@ std::optional<Eigen::Vector3d> line_after_corner_arc(double x0, const Eigen::Vec
   return Eigen::Vector3d(line_y(0.0), ahead[1], 0.0);
 }
 
+// The arc positions along `course` of the points within band_m of it (NaN for the others), and
+// the nearest of them behind the origin (at most 0; -inf for none) and ahead of it (+inf).
+struct AlongCourse {
+  std::vector<double> s_of;
+  double last_behind = -std::numeric_limits<double>::infinity();
+  double first_ahead = std::numeric_limits<double>::infinity();
+};
+AlongCourse along_course(const CurveModel::Prepared& course, double band_m,
+                         const std::vector<Eigen::Vector2d>& points) {
+  AlongCourse r;
+  r.s_of.assign(points.size(), std::numeric_limits<double>::quiet_NaN());
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (std::abs(course.signed_distance(points[i])) > band_m) continue;
+    const double s = course.arc_position(points[i]);
+    r.s_of[i] = s;
+    if (s <= 0.0)
+      r.last_behind = std::max(r.last_behind, s);
+    else
+      r.first_ahead = std::min(r.first_ahead, s);
+  }
+  return r;
+}
+
 // How many observations the (x, observations) pairs hold together.
 int observations_of(const std::vector<std::pair<double, int>>& along) {
   int n = 0;
@@ -675,6 +698,62 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   return with_model(in_view, bridged);
 }
 
+std::optional<LineMeasurement> PathMemory::through_gap(
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
+  if (options_.through_end_m <= 0.0 || !last_course_) return std::nullopt;
+  const CurveModel course = last_course_now();
+  const CurveModel::Prepared along = course.prepared();
+  const double band_m = std::max(tape_width_m_, kNarrowTape_m);
+  // Arc positions along the course of the points near it; the gap around the origin.
+  const AlongCourse on_course = along_course(along, band_m, in_vehicle);
+  const std::vector<double>& s_of = on_course.s_of;
+  const double last_behind = on_course.last_behind, first_ahead = on_course.first_ahead;
+  // A gap (no tape within a centimetre either side of the origin is at_origin's case).
+  constexpr double kContiguous_m = 0.01;
+  if (!std::isfinite(last_behind) || !std::isfinite(first_ahead) ||
+      first_ahead - last_behind > options_.max_gap_m || first_ahead - last_behind < kContiguous_m)
+    return std::nullopt;
+  std::vector<Eigen::Vector2d> ends;
+  std::vector<int> end_of;  // 0 behind, 1 ahead
+  std::vector<int> observations;
+  for (size_t i = 0; i < in_vehicle.size(); ++i) {
+    const double s = s_of[i];
+    const int end = s <= last_behind && s >= last_behind - options_.through_end_m   ? 0
+                    : s >= first_ahead && s <= first_ahead + options_.through_end_m ? 1
+                                                                                    : -1;
+    if (end < 0) continue;
+    ends.push_back(in_vehicle[i]);
+    end_of.push_back(end);
+    observations.push_back(points_[i].observations);
+  }
+  CurveFitOptions fit_options;
+  fit_options.inlier_threshold_m = options_.through_inlier_m;
+  fit_options.forward = course.tangent();
+  const CurveFit fit = fit_curve_robust(ends, fit_options);
+  if (!fit.ok ||
+      std::abs(fit.model.curvature_1_m - course.curvature_1_m) > options_.through_max_bend_1_m)
+    return std::nullopt;
+  // Both ends held: enough observations within the inlier band, over at least 2 cm each (the
+  // stem behind is forgotten keep_behind_m back).
+  constexpr double kMinEndSpan_m = 0.02;
+  const CurveModel::Prepared fitted = fit.model.prepared();
+  int held[2] = {0, 0};
+  double lo[2] = {1e9, 1e9}, hi[2] = {-1e9, -1e9};
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (std::abs(fitted.signed_distance(ends[i])) > options_.through_inlier_m) continue;
+    const int end = end_of[i];
+    held[end] += observations[i];
+    const double s = fitted.arc_position(ends[i]);
+    lo[end] = std::min(lo[end], s);
+    hi[end] = std::max(hi[end], s);
+  }
+  for (int end : {0, 1})
+    if (held[end] < options_.min_points || hi[end] - lo[end] < kMinEndSpan_m) return std::nullopt;
+  if (runs_against_the_vehicle(fit.model) || !near_course_carried_forward(fit.model))
+    return std::nullopt;
+  return with_model(in_view, fit.model);
+}
+
 std::optional<LineMeasurement> PathMemory::around_corner(
     const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
   // Only after a course measured on an arc: the circle is started from it. Where the last frame
@@ -690,18 +769,9 @@ std::optional<LineMeasurement> PathMemory::around_corner(
   const double band_m = std::max(options_.corner_band_m, tape_width_m_);
   // Arc positions along the course (carried on from where it was measured) of the points near
   // it; the gap around the origin between the nearest behind and the nearest ahead.
-  std::vector<double> s_of(in_vehicle.size(), std::numeric_limits<double>::quiet_NaN());
-  double last_behind = -std::numeric_limits<double>::infinity();
-  double first_ahead = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < in_vehicle.size(); ++i) {
-    if (std::abs(along.signed_distance(in_vehicle[i])) > band_m) continue;
-    const double s = along.arc_position(in_vehicle[i]);
-    s_of[i] = s;
-    if (s <= 0.0)
-      last_behind = std::max(last_behind, s);
-    else
-      first_ahead = std::min(first_ahead, s);
-  }
+  const AlongCourse on_course = along_course(along, band_m, in_vehicle);
+  const std::vector<double>& s_of = on_course.s_of;
+  const double last_behind = on_course.last_behind, first_ahead = on_course.first_ahead;
   // No tape remembered along the course within max_gap_m behind (a tight corner under a low
   // camera, its arc never seen): the course alone, measured within max_gap_m driven, is the arc.
   const bool seen_behind = std::isfinite(last_behind) && -last_behind <= options_.max_gap_m;
@@ -1250,6 +1320,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   add_evidence(evidence, &in_vehicle);
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) m = across_gap(in_view, in_vehicle);
+  if (!m) m = through_gap(in_view, in_vehicle);
   bool off_corner = false;
   if (!m) {
     m = around_corner(in_view, in_vehicle);
