@@ -246,6 +246,14 @@ struct AlongCourse {
   std::vector<double> s_of;
   double last_behind = -std::numeric_limits<double>::infinity();
   double first_ahead = std::numeric_limits<double>::infinity();
+  // Which end of the gap point i lies in: 0 within span_m behind last_behind, 1 within span_m
+  // beyond first_ahead, else (or off the band) -1.
+  int end_of(size_t i, double span_m) const {
+    const double s = s_of[i];
+    return s <= last_behind && s >= last_behind - span_m   ? 0
+           : s >= first_ahead && s <= first_ahead + span_m ? 1
+                                                           : -1;
+  }
 };
 AlongCourse along_course(const CurveModel::Prepared& course, double band_m,
                          const std::vector<Eigen::Vector2d>& points) {
@@ -706,7 +714,6 @@ std::optional<LineMeasurement> PathMemory::through_gap(
   const double band_m = std::max(tape_width_m_, kNarrowTape_m);
   // Arc positions along the course of the points near it; the gap around the origin.
   const AlongCourse on_course = along_course(along, band_m, in_vehicle);
-  const std::vector<double>& s_of = on_course.s_of;
   const double last_behind = on_course.last_behind, first_ahead = on_course.first_ahead;
   // A gap (no tape within a centimetre either side of the origin is at_origin's case).
   constexpr double kContiguous_m = 0.01;
@@ -717,10 +724,7 @@ std::optional<LineMeasurement> PathMemory::through_gap(
   std::vector<int> end_of;  // 0 behind, 1 ahead
   std::vector<int> observations;
   for (size_t i = 0; i < in_vehicle.size(); ++i) {
-    const double s = s_of[i];
-    const int end = s <= last_behind && s >= last_behind - options_.through_end_m   ? 0
-                    : s >= first_ahead && s <= first_ahead + options_.through_end_m ? 1
-                                                                                    : -1;
+    const int end = on_course.end_of(i, options_.through_end_m);
     if (end < 0) continue;
     ends.push_back(in_vehicle[i]);
     end_of.push_back(end);
@@ -770,7 +774,6 @@ std::optional<LineMeasurement> PathMemory::around_corner(
   // Arc positions along the course (carried on from where it was measured) of the points near
   // it; the gap around the origin between the nearest behind and the nearest ahead.
   const AlongCourse on_course = along_course(along, band_m, in_vehicle);
-  const std::vector<double>& s_of = on_course.s_of;
   const double last_behind = on_course.last_behind, first_ahead = on_course.first_ahead;
   // No tape remembered along the course within max_gap_m behind (a tight corner under a low
   // camera, its arc never seen): the course alone, measured within max_gap_m driven, is the arc.
@@ -780,10 +783,7 @@ std::optional<LineMeasurement> PathMemory::around_corner(
   std::vector<Eigen::Vector2d> ends, ahead;
   int observed[2] = {0, 0};
   for (size_t i = 0; i < in_vehicle.size(); ++i) {
-    const double s = s_of[i];
-    const int end = s <= last_behind && s >= last_behind - options_.gap_end_m   ? 0
-                    : s >= first_ahead && s <= first_ahead + options_.gap_end_m ? 1
-                                                                                : -1;
+    const int end = on_course.end_of(i, options_.gap_end_m);
     if (end < 0) continue;
     ends.push_back(in_vehicle[i]);
     if (end == 1) ahead.push_back(in_vehicle[i]);
