@@ -1397,8 +1397,13 @@ LineMeasurement PathMemory::with_course(const LineMeasurement& m) const {
 void PathMemory::remember_heading(const LineMeasurement& m) {
   tape_heading_rad_ = vehicle_.yaw_rad - m.e_theta_rad;  // e_theta = vehicle yaw - tape yaw
   const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+  const bool runs_on =
+      last_course_ && std::abs(wrap_angle_rad(*tape_heading_rad_ - last_course_->heading_rad -
+                                              last_course_->curvature_1_m *
+                                                  (odometer_m_ - last_course_->odometer_m))) <=
+                          options_.carry_forward_turn_margin_rad;
   last_course_ = Course{vehicle_.transform(model.foot_point()), *tape_heading_rad_, m.curvature_1_m,
-                        odometer_m_};
+                        odometer_m_, runs_on};
   if (std::abs(m.curvature_1_m) >= options_.corner_min_curvature_1_m)
     last_corner_course_ = last_course_;
 }
@@ -1424,8 +1429,20 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   const Eigen::Vector2d last_foot = vehicle_.inverse().transform(last_course_->foot_m);
   const double width_m =
       std::min(std::max(tape_width_m_, kNarrowTape_m), options_.carry_forward_max_width_m);
-  if (std::abs(in_view.signed_distance(last_foot)) <= width_m ||
-      std::abs(in_view.signed_distance(course.foot_point())) <= 0.5 * width_m)
+  const CurveModel::Prepared view = in_view.prepared();
+  const double max_turn_rad =
+      std::abs(last_course_->curvature_1_m) * (odometer_m_ - last_course_->odometer_m) +
+      options_.carry_forward_turn_margin_rad;
+  // Whether the line in view passes p within `near_m`, running within max_turn_rad of heading_rad
+  // (vehicle frame) there where the course ran on from the one before it.
+  auto continues = [&](const Eigen::Vector2d& p, double near_m, double heading_rad) {
+    const Eigen::Vector2d d = view.unit_direction_at(p);
+    return std::abs(view.signed_distance(p)) <= near_m &&
+           (!last_course_->runs_on ||
+            std::abs(wrap_angle_rad(std::atan2(d.y(), d.x()) - heading_rad)) <= max_turn_rad);
+  };
+  if (continues(last_foot, width_m, last_course_->heading_rad - vehicle_.yaw_rad) ||
+      continues(course.foot_point(), 0.5 * width_m, course.heading_rad))
     return std::nullopt;
   return carried;
 }

@@ -152,10 +152,10 @@ struct PathMemoryOptions {
   // the vehicle bent at least this much (a corner's arc, not a fork's stem: there the line in
   // view is the way chosen), and the line in view, carried back, passes neither within a tape
   // width of where that was nor within half a tape width of that arc carried forward to the
-  // origin: that arc carried forward, for at most carry_forward_m. The same where the camera has
-  // passed a corner and sees no tape, beyond the tape remembered (agv evaluate seeds 1-8 99.23
-  // -> 99.38 % found, RMS unchanged: seed 5's R 0.27 m corner 88.7 -> 95.0 % of its frames,
-  // the arc carried within 1 mm).
+  // origin, in the arc's direction there: that arc carried forward, for at most carry_forward_m.
+  // The same where the camera has passed a corner and sees no tape, beyond the tape remembered
+  // (agv evaluate seeds 1-8 99.23 -> 99.38 % found, RMS unchanged: seed 5's R 0.27 m corner 88.7
+  // -> 95.0 % of its frames, the arc carried within 1 mm).
   double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
   double carry_forward_m = 0.2;
   // ... the tape width in those two tests at most this: the line that runs on from an arc's end
@@ -163,6 +163,15 @@ struct PathMemoryOptions {
   // leg, carried back 40 mm off the arc under the vehicle, for that tape (agv evaluate seed 4,
   // sequence 10: 97 mm tape, a corner of R 0.27 m, up to 45 mm off once that leg was found).
   double carry_forward_max_width_m = 0.03;
+  // ... and, there, runs in the arc's direction within its curvature times the distance driven
+  // since (where it left the arc it was its tangent) and this much: mid-corner, the outgoing leg
+  // of a tight corner of wide tape passes the arc's last foot point within 12 mm, turned half the
+  // corner from it (agv evaluate seed 8, sequence 11: R 0.11 m, 53 deg, 84 mm tape: that leg
+  // carried back read 10.5 mm / 26 deg off). Only where that arc ran on from the course before
+  // it within the same margin: at a fork one reading off by 30 deg (both legs in the window)
+  // read an arc of R 0.15 m, and carried forward it was 33 mm off where the line in view was 10
+  // (scenarios/fork_left.yaml started 0.50 m along at 0.28 m/s).
+  double carry_forward_turn_margin_rad = 0.05;
   // Across a corner's stretch never seen (around_corner): the two ends within this of the last
   // course carried on (or a tape width), one circle through both within corner_max_rms_m. A
   // band of 0 turns this off.
@@ -467,6 +476,9 @@ class PathMemory {
   struct Course {
     Eigen::Vector2d foot_m;
     double heading_rad, curvature_1_m, odometer_m;
+    // Whether it runs on from the course before it: turned by that one's curvature times the
+    // distance driven, within carry_forward_turn_margin_rad.
+    bool runs_on = false;
   };
   std::optional<Course> last_course_;
   // The last such course on an arc (curvature at least corner_min_curvature_1_m).

@@ -1011,8 +1011,9 @@ TEST(PathMemory, WhereAWideArcIsNoMoreRememberedItsCourseRunsIntoTheLineAheadToo
 // is carried forward: how far the memory's errors stray there is the corner's, not the tape's
 // width: 97 mm tape within 0.5 mm of 30 mm tape at worst (both measured 12.45 mm, where the arc
 // carried forward meets the way out). Where the test of whether the line in view runs on from
-// the arc took the whole width of 97 mm tape, the leg carried back was taken for the tape under
-// the vehicle: 30.0 mm. With them joined: 0.94 mm at worst for either width.
+// the arc took the whole width of 97 mm tape (and not the line's direction), the leg carried
+// back was taken for the tape under the vehicle: 30.0 mm. With them joined: 0.94 mm at worst
+// for either width.
 TEST(PathMemory, AWideCornersOutgoingLegInViewIsNoMoreTakenForTheTapeUnderTheVehicle) {
   PathMemoryOptions carried;
   carried.corner_band_m = 0.0;
@@ -1022,6 +1023,7 @@ TEST(PathMemory, AWideCornersOutgoingLegInViewIsNoMoreTakenForTheTapeUnderTheVeh
   EXPECT_LE(wide.max_e_d_error_m, narrow_m + 0.0005);
   PathMemoryOptions whole_width = carried;
   whole_width.carry_forward_max_width_m = 1.0;
+  whole_width.carry_forward_turn_margin_rad = 10.0;  // the line in view's direction not asked
   EXPECT_GE(drive_window(whole_width, 0.2, 112.0, 0.097, true).max_e_d_error_m, 2.0 * narrow_m);
   for (double width_m : {0.03, 0.097}) {
     const WindowDrive joined = drive_window({}, 0.2, 112.0, width_m, true);

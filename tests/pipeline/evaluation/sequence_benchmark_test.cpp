@@ -114,6 +114,23 @@ TEST(SequenceBenchmark, ACornersEvidenceDoesNotDragTheTapeUnderTheVehicle) {
   EXPECT_LE(result.summary["after_warm_up"]["rms_e_d_m"].get<double>(), 0.0006);
 }
 
+// agv evaluate --seed 8, sequence 11: a corner of R 0.11 m turning 53 deg, 84 mm tape, 0.24 m
+// up. At its apex the memory held no tape just ahead of the vehicle (no chord one tape wide
+// there) and one frame fell back to the line in view: the outgoing leg, which passes the arc's
+// last foot point within 12 mm but runs half the corner (26 deg) from it, carried back 10.5 mm /
+// 26 deg off. The line in view continues the arc only where it runs in the arc's direction
+// (within its curvature times the distance driven); else the arc is carried forward. Bound: the
+// corner's frames within 5 mm / 15 deg, half the outgoing leg's error and well under the corner's
+// half-turn (measured 2.8 mm / 10.0 deg).
+TEST(SequenceBenchmark, MidCornerTheOutgoingLegIsNotTakenForTheArc) {
+  const SequenceBenchmarkResult result = one_drive(8, 11);
+  SCOPED_TRACE("draw: " + result.sequence_texts.at(11));
+  EXPECT_GE(result.summary["found_fraction"].get<double>(), 0.99);
+  const nlohmann::json& corner = result.summary["by_piece"]["corner"];
+  EXPECT_LE(corner["max_abs_e_d_m"].get<double>(), 0.005);
+  EXPECT_LE(rad_to_deg(corner["max_abs_e_theta_rad"].get<double>()), 15.0);
+}
+
 // agv evaluate --seed 1, sequence 6: a corner of R 0.10 m turning 118 deg, 20 mm tape, then a
 // line. The camera never saw the line's first 0.14 m under it; the memory bridges that gap from
 // the corner's end behind to the line ahead. The quadratic through the end behind's last 40 mm
