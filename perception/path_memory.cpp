@@ -179,6 +179,9 @@ std::vector<WeightedPoint> thinned(const std::vector<Eigen::Vector2d>& points, d
 // Tolerances that scale with the tape's width use at least this width (narrower tapes).
 constexpr double kNarrowTape_m = 0.01;
 
+// Remembered points along the tape further apart than this leave a gap between them.
+constexpr double kContiguous_m = 0.01;
+
 // Whether the tape a model of the remembered tape puts under the vehicle runs more than 90 deg
 // from the vehicle's heading: the vehicle drives along its tape, so such a reading (a fit in a
 // corner's window, tight enough that its foot point lies round the bend: agv evaluate seed 12,
@@ -607,7 +610,6 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   // The gap: two consecutive points (along the tape) more than kContiguous_m apart, the origin
   // between them or less than twice min_cover_m beyond either (where the fit at the origin lacks
   // tape on that side), the nearest such.
-  constexpr double kContiguous_m = 0.01;
   std::sort(along.begin(), along.end());
   double last_behind = 0.0, first_ahead = 0.0, best = 2.0 * options_.min_cover_m;
   for (size_t j = 0; j + 1 < along.size(); ++j) {
@@ -716,7 +718,6 @@ std::optional<LineMeasurement> PathMemory::through_gap(
   const AlongCourse on_course = along_course(along, band_m, in_vehicle);
   const double last_behind = on_course.last_behind, first_ahead = on_course.first_ahead;
   // A gap (no tape within a centimetre either side of the origin is at_origin's case).
-  constexpr double kContiguous_m = 0.01;
   if (!std::isfinite(last_behind) || !std::isfinite(first_ahead) ||
       first_ahead - last_behind > options_.max_gap_m || first_ahead - last_behind < kContiguous_m)
     return std::nullopt;
@@ -1399,8 +1400,7 @@ void PathMemory::remember_heading(const LineMeasurement& m) {
   const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
   const bool runs_on =
       last_course_ && std::abs(wrap_angle_rad(*tape_heading_rad_ - last_course_->heading_rad -
-                                              last_course_->curvature_1_m *
-                                                  (odometer_m_ - last_course_->odometer_m))) <=
+                                              turn_since_last_course_rad())) <=
                           options_.carry_forward_turn_margin_rad;
   last_course_ = Course{vehicle_.transform(model.foot_point()), *tape_heading_rad_, m.curvature_1_m,
                         odometer_m_, runs_on};
@@ -1431,8 +1431,7 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
       std::min(std::max(tape_width_m_, kNarrowTape_m), options_.carry_forward_max_width_m);
   const CurveModel::Prepared view = in_view.prepared();
   const double max_turn_rad =
-      std::abs(last_course_->curvature_1_m) * (odometer_m_ - last_course_->odometer_m) +
-      options_.carry_forward_turn_margin_rad;
+      std::abs(turn_since_last_course_rad()) + options_.carry_forward_turn_margin_rad;
   // Whether the line in view passes p within `near_m`, running within max_turn_rad of heading_rad
   // (vehicle frame) there where the course ran on from the one before it.
   auto continues = [&](const Eigen::Vector2d& p, double near_m, double heading_rad) {
@@ -1492,7 +1491,7 @@ bool PathMemory::near_course_carried_forward(const CurveModel& fitted) const {
   const double driven_m = odometer_m_ - last_course_->odometer_m;
   const CurveModel course = last_course_now();
   const double turn_tolerance_rad =
-      options_.ahead_course_turn_rad + std::abs(last_course_->curvature_1_m) * driven_m;
+      options_.ahead_course_turn_rad + std::abs(turn_since_last_course_rad());
   return std::abs(wrap_angle_rad(fitted.heading_rad - course.heading_rad)) <= turn_tolerance_rad &&
          std::abs(fitted.e_d_m - course.e_d_m) <=
              options_.ahead_course_offset_m + turn_tolerance_rad * driven_m;
@@ -1504,6 +1503,10 @@ CurveModel PathMemory::course_now(const Course& course) const {
 }
 
 CurveModel PathMemory::last_course_now() const { return course_now(*last_course_); }
+
+double PathMemory::turn_since_last_course_rad() const {
+  return last_course_->curvature_1_m * (odometer_m_ - last_course_->odometer_m);
+}
 
 LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
                                             const LineDetection& detection) {

@@ -437,6 +437,9 @@ class PathMemory {
   std::optional<LineMeasurement> course_carried_on(const LineMeasurement& m) const;
   // The course last measured under the vehicle, moved to this frame's origin (last_course_ set).
   CurveModel last_course_now() const;
+  // How far the tape turns along the course last measured over the distance driven since
+  // (its curvature times that distance; last_course_ set).
+  double turn_since_last_course_rad() const;
   // Whether `fitted` (vehicle frame) lies as near the course last measured, carried forward, as
   // PathMemoryOptions' ahead_course_* allow (false before a course was measured).
   bool near_course_carried_forward(const CurveModel& fitted) const;
