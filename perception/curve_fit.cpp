@@ -271,6 +271,12 @@ CurveModel CurveModel::reversed() const {
   return {-e_d_m, wrap_angle_rad(heading_rad + M_PI), -curvature_1_m};
 }
 
+CurveModel CurveModel::oriented_like(const CurveModel& reference,
+                                     const Eigen::Vector2d& where) const {
+  const Eigen::Vector2d along_reference = reference.tangent_at(reference.arc_position(where));
+  return tangent_at(arc_position(where)).dot(along_reference) >= 0.0 ? *this : reversed();
+}
+
 std::optional<CurveModel> curve_through(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                                         const Eigen::Vector2d& c, const Eigen::Vector2d& forward) {
   const Eigen::Vector2d ab = b - a, ac = c - a;

@@ -39,6 +39,10 @@ struct CurveModel {
   Eigen::Vector2d tangent_at(double s_m) const;
   // The same curve travelled the other way.
   CurveModel reversed() const;
+  // This curve, reversed where needed to run the way `reference` runs, compared where each
+  // passes nearest `where` (put it where both are seen: away from that, a tight curve's direction,
+  // at the origin's foot point say, may point either way).
+  CurveModel oriented_like(const CurveModel& reference, const Eigen::Vector2d& where) const;
 
   // The model with its foot point and directions computed once, for loops over many points.
   struct Prepared {

@@ -250,11 +250,7 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   auto as_before = [&](const DetectedLine& line) {
     const CurveModel& m = line.model;
     if (!history || !history->followed) return m;
-    const Eigen::Vector2d seen = m.point_at(0.5 * (line.s_min_m + line.s_max_m));
-    const CurveModel& before = *history->followed;
-    const double along =
-        m.tangent_at(m.arc_position(seen)).dot(before.tangent_at(before.arc_position(seen)));
-    return along >= 0.0 ? m : m.reversed();
+    return m.oriented_like(*history->followed, m.point_at(0.5 * (line.s_min_m + line.s_max_m)));
   };
   auto best_line = [&] {
     int best = 0;

@@ -515,7 +515,10 @@ LineMeasurement LineEstimator::measurement_of(LineDetection& d, const cv::Mat& f
   d.branch_heading_rad = followed.branch_heading_rad;
   d.branch = options_.branch;
   if (const auto near = near_model_if_different(d.chords, d.lines[followed.line], options_.lines)) {
-    const bool same_way = near->tangent().dot(followed.model.tangent()) >= 0.0;
+    // The near model runs as the line's model, which followed.model is, or reversed (one curve:
+    // their directions at the origin's foot point are the same or opposite).
+    const bool same_way =
+        d.lines[followed.line].model.tangent().dot(followed.model.tangent()) >= 0.0;
     d.followed_model = same_way ? *near : near->reversed();
   }
   if (const auto piece = nearest_piece(d.chords, d.lines[followed.line], d.followed_model))

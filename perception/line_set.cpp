@@ -61,7 +61,7 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
     if (fit.inliers[i]) misfit.push_back(std::abs(whole.signed_distance(centres[i])));
   }
   if (quantile(misfit, 0.5) <= std::max(0.001, 3.0 * fit.rms_m)) return std::nullopt;
-  return fit.model.tangent().dot(line.model.tangent()) >= 0.0 ? fit.model : fit.model.reversed();
+  return fit.model.oriented_like(line.model, fit.model.point_at(0.5 * (fit.s_min_m + fit.s_max_m)));
 }
 
 namespace {

@@ -99,6 +99,25 @@ TEST(CurveModel, ReversedIsTheSameCurve) {
   }
 }
 
+// A circle of R 0.1 m about (0.25, 0) travelled anticlockwise, and the line x = 0.35 m
+// travelled in +y: at (0.35, 0) they touch, running the same way. At the origin's foot points,
+// (0.15, 0) on the circle and (0.35, 0) on the line, the circle runs in -y and the line in +y:
+// compared there they would seem opposite (by hand).
+TEST(CurveModel, OrientedLikeComparesWhereTheCurvesAreSeen) {
+  const Eigen::Vector2d touch(0.35, 0.0);
+  const CurveModel circle = curve_through_point(touch, M_PI / 2, 10.0);
+  const CurveModel line = curve_through_point(touch, M_PI / 2, 0.0);
+  ASSERT_LT(circle.tangent().dot(line.tangent()), -0.99);  // the trap at the foot points
+  for (const CurveModel& m : {line, line.reversed()}) {
+    const CurveModel oriented = m.oriented_like(circle, touch);
+    EXPECT_NEAR(oriented.tangent_at(oriented.arc_position(touch)).y(), 1.0, 1e-9);
+  }
+  for (const CurveModel& m : {circle, circle.reversed()}) {
+    const CurveModel oriented = m.oriented_like(line.reversed(), touch);
+    EXPECT_NEAR(oriented.tangent_at(oriented.arc_position(touch)).y(), -1.0, 1e-9);
+  }
+}
+
 // The gradient the fits' Gauss-Newton steps use, against central differences of the signed
 // distance, on arcs of both turns, a line and a tight arc, at points on both sides. Central
 // differences with steps of 1e-6 are good to ~1e-9 here (third derivatives of order 1-100);
