@@ -219,6 +219,14 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
       return std::nullopt;
     return h;
   };
+  // Straight on, a first choice between ways that differ from straight by nearly the same turn
+  // is not yet held: where the legs of a Y fork first show, still one band, which is straight
+  // is noise (agv evaluate seed 21, sequence 3: held by 0.8 deg for the branch, which was then
+  // kept to); a later frame, the legs apart, decides.
+  constexpr double kClearStraight_rad = 0.05;
+  auto clear_choice = [&](double best, double second) {
+    return holding || choice != BranchChoice::kStraight || best - second >= kClearStraight_rad;
+  };
   // Straight on from a junction in view: the direction of the tape followed before, there
   // (where the tape comes in on a bend, its direction at the fork, not the vehicle's heading: a
   // fork's way straight on is the one that continues the incoming tape); without one, the
@@ -266,6 +274,7 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     followed.line = best_line();
     if (lines.size() > 1) {
       double best_score = -std::numeric_limits<double>::infinity();
+      double second_score = best_score;
       for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
         const CurveModel m = as_before(lines[i]);
         const double near_s = m.arc_position(lines[i].model.point_at(lines[i].s_min_m));
@@ -277,28 +286,37 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
         const double h_far = heading_at(m, std::max(near_s, far_s));
         const double score = score_of(h, lines[i].model.e_d_m, 0.0, h_far);
         if (score > best_score) {
+          second_score = best_score;
           best_score = score;
           followed.line = i;
           followed.branch_heading_rad = held_again(h);
+        } else {
+          second_score = std::max(second_score, score);
         }
       }
+      if (!clear_choice(best_score, second_score)) followed.branch_heading_rad.reset();
     }
     followed.model = as_before(lines[followed.line]);
     return followed;
   }
   int chosen = -1;
   double best_score = -std::numeric_limits<double>::infinity();
+  double second_score = best_score;
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
     if (k == junction->incoming) continue;
     const double score =
         score_of(junction->branches[k].heading_rad, 0.0, straight_on_rad(junction->point_m));
     if (score > best_score) {
+      second_score = best_score;
       best_score = score;
       chosen = k;
+    } else {
+      second_score = std::max(second_score, score);
     }
   }
   const Branch* branch = chosen >= 0 ? &junction->branches[chosen] : nullptr;
-  if (branch) followed.branch_heading_rad = held_again(branch->heading_rad);
+  if (branch && clear_choice(best_score, second_score))
+    followed.branch_heading_rad = held_again(branch->heading_rad);
   // Line i oriented so that it leaves the junction in direction h.
   auto leaving = [&](int i, double h) {
     const CurveModel& m = lines[i].model;

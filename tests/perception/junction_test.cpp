@@ -190,6 +190,37 @@ TEST(Junction, AWayHeldStraightOnIsNotDroppedForAFrameThatMissesIt) {
   EXPECT_EQ(again.line, 1);
 }
 
+// Where a Y fork's legs first show they run nearly the same way: which is straight is noise,
+// and a way held on it would be kept to through the junction (agv evaluate seed 21, sequence 3:
+// the branch held by 0.8 deg, 21 mm off by the fork's end). The stem along x, legs 0.3 m long
+// from 0.3 m ahead (their ends 13 mm apart or more: two tapes, not one laid in pieces).
+std::vector<DetectedLine> legs_at(double first_rad, double second_rad) {
+  auto leg = [](double h) {
+    return seen_line(0.3, 0.0, 0.3 + 0.3 * std::cos(h), 0.3 * std::sin(h));
+  };
+  return {seen_line(0.2, 0.0, 0.3, 0.0), leg(first_rad), leg(second_rad)};
+}
+
+TEST(Junction, StraightOnIsNotHeldBetweenWaysThatTurnAlike) {
+  // 1.0 and 1.5 deg from straight (0.5 deg apart, under the 2.9 deg a choice needs): the nearer
+  // is this frame's line, no way is held.
+  const std::vector<DetectedLine> close = legs_at(1.0 * kDeg, -1.5 * kDeg);
+  const std::optional<Junction> close_junction = junction_of(close);
+  ASSERT_TRUE(close_junction);
+  ASSERT_EQ(close_junction->branches.size(), 3u);
+  const FollowedLine first = choose_line(close, close_junction, BranchChoice::kStraight, 1.05);
+  EXPECT_EQ(first.line, 1);
+  EXPECT_FALSE(first.branch_heading_rad);
+  // Apart (1 and 5 deg): the choice is made and held.
+  const std::vector<DetectedLine> apart = legs_at(1.0 * kDeg, -5.0 * kDeg);
+  const FollowedLine later = choose_line(apart, junction_of(apart), BranchChoice::kStraight, 1.05);
+  EXPECT_EQ(later.line, 1);
+  ASSERT_TRUE(later.branch_heading_rad);
+  EXPECT_NEAR(*later.branch_heading_rad, 1.0 * kDeg, 1e-6);
+  // Left and right are not judged by closeness to straight: held at once.
+  EXPECT_TRUE(choose_line(close, close_junction, BranchChoice::kLeft, 1.05).branch_heading_rad);
+}
+
 TEST(Junction, TheHeldBranchIsForgottenOnceTheJunctionIsBehind) {
   FollowHistory history;
   history.update(0.5, CurveModel{});
