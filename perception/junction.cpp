@@ -201,6 +201,10 @@ void FollowHistory::update(const std::optional<double>& branch_heading,
   if (line) followed = line;
 }
 
+void FollowHistory::vehicle_turned(double yaw_rad) {
+  if (branch_heading_rad) branch_heading_rad = wrap_angle_rad(*branch_heading_rad - yaw_rad);
+}
+
 FollowedLine choose_line(const std::vector<DetectedLine>& lines,
                          const std::optional<Junction>& junction, BranchChoice choice,
                          double max_turn_rad, const FollowHistory* history) {

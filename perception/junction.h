@@ -60,6 +60,10 @@ struct FollowHistory {
   void update(const std::optional<double>& branch_heading, const std::optional<CurveModel>& line,
               std::optional<double> width_m = std::nullopt,
               const std::optional<ContrastAxis>& line_axis = std::nullopt);
+  // The vehicle turned by yaw_rad (anticlockwise) since the frame before: the direction held,
+  // in the vehicle frame, turns the other way (through a fork on a bend the legs' directions move
+  // by degrees a frame; a direction held unturned came nearer the other leg).
+  void vehicle_turned(double yaw_rad);
   static constexpr int kForgetAfterFrames = 5;  // the junction is behind: choose anew
   static constexpr int kForgetAxisAfterFrames = 30;
 };

@@ -22,6 +22,9 @@ class TrackingLineEstimator {
   LineMeasurement measure(const cv::Mat& frame, double stamp_s, LineDetection* details = nullptr);
   // Forget the frame before (after a gap in the sequence).
   void reset();
+  // The vehicle turned by yaw_rad (anticlockwise, odometry) since the frame before; call before
+  // measuring the frame (FollowHistory::vehicle_turned).
+  void vehicle_turned(double yaw_rad) { history_.vehicle_turned(yaw_rad); }
 
   struct Counts {
     int tracked = 0;       // frames measured by tracking

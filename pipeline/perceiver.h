@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "common/angles.h"
 #include "common/line_measurement.h"
 #include "perception/floor_odometry.h"
 #include "perception/path_memory.h"
@@ -45,9 +46,12 @@ class ImagePerceiver : public Perceiver {
     if (!memory_) return estimator_.measure(frame.image, frame.t_s, details);
     perception::LineDetection local;
     perception::LineDetection& detection = details ? *details : local;
-    const LineMeasurement in_view = estimator_.measure(frame.image, frame.t_s, &detection);
     perception::OdometryKind kind;
     const std::optional<Pose2> odometry = odometry_of(frame, &kind);
+    if (odometry && last_odometry_)
+      estimator_.vehicle_turned(wrap_angle_rad(odometry->yaw_rad - last_odometry_->yaw_rad));
+    last_odometry_ = odometry;
+    const LineMeasurement in_view = estimator_.measure(frame.image, frame.t_s, &detection);
     return memory_->update(in_view, detection, odometry, kind);
   }
   // A bad frame between: the line tracking starts again; the remembered tape stays (the
@@ -74,6 +78,7 @@ class ImagePerceiver : public Perceiver {
   std::optional<perception::FloorOdometry> floor_odometry_;
   Pose2 frame_odometry_;              // integrated from the frames' motion
   std::optional<Pose2> last_motion_;  // for frames whose motion cannot be read
+  std::optional<Pose2> last_odometry_;  // the frame before's, to turn what is held with
   long wheel_frames_ = 0, floor_frames_ = 0, repeated_frames_ = 0;
 };
 

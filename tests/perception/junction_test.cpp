@@ -221,6 +221,20 @@ TEST(Junction, StraightOnIsNotHeldBetweenWaysThatTurnAlike) {
   EXPECT_TRUE(choose_line(close, close_junction, BranchChoice::kLeft, 1.05).branch_heading_rad);
 }
 
+// Through a fork on a bend the legs' directions move with the vehicle's turn (agv evaluate seed
+// 18, sequence 11: the way straight on held at 19.2 deg, six frames later the legs at 14.1 and
+// 20.0 deg, the vehicle 5 deg further left; held unturned, the branch was taken and followed 58 mm
+// off). The direction held turns with the vehicle: straight on stays the leg held.
+TEST(Junction, TheWayHeldTurnsWithTheVehicle) {
+  FollowHistory history;
+  history.update(19.2 * kDeg, CurveModel{});
+  history.vehicle_turned(5.0 * kDeg);
+  ASSERT_TRUE(history.branch_heading_rad);
+  EXPECT_NEAR(*history.branch_heading_rad, 14.2 * kDeg, 1e-12);
+  const std::vector<DetectedLine> legs = legs_at(20.0 * kDeg, 14.1 * kDeg);
+  EXPECT_EQ(choose_line(legs, junction_of(legs), BranchChoice::kStraight, 1.05, &history).line, 2);
+}
+
 TEST(Junction, TheHeldBranchIsForgottenOnceTheJunctionIsBehind) {
   FollowHistory history;
   history.update(0.5, CurveModel{});
