@@ -213,10 +213,13 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   constexpr double kHoldTolerance_rad = 0.5;
   const bool holding = history && history->branch_heading_rad.has_value();
   const double held_rad = holding ? *history->branch_heading_rad : 0.0;
-  // Straight on, the way held does not jump: a way farther from it than the vehicle turns in a
-  // few frames is this frame's line to follow, but the direction held stays (the way held may be
-  // missed in a frame: a leg too close to the other to be a line of its own).
-  constexpr double kStraightJump_rad = 0.15;
+  // Straight on, the way held does not jump: a way farther from it than 0.05 rad (the held
+  // direction turns with the vehicle, FollowHistory::vehicle_turned; what is left is the fits'
+  // noise) is this frame's line to follow, but the direction held stays (the way held may be
+  // missed in a frame: a leg too close to the other to be a line of its own; a poor fit between
+  // the legs would carry it towards the branch a few degrees a frame: agv evaluate seed 33,
+  // sequence 7).
+  constexpr double kStraightJump_rad = 0.05;
   auto held_again = [&](double h) -> std::optional<double> {
     if (holding && choice == BranchChoice::kStraight &&
         std::abs(wrap_angle_rad(h - held_rad)) > kStraightJump_rad)

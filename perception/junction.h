@@ -76,8 +76,8 @@ struct FollowHistory {
 // followed. With a history, the branch chosen in the frames before is kept to while one leaves
 // within 0.5 rad of its direction (the choice decides once per junction, and a leg seen in some
 // frames only does not make the choice swing; straight on, a frame whose nearest way is more than
-// 0.15 rad from the one held does not move the direction held, and no way is held before one is
-// nearer straight than the others by 0.05 rad: where the legs first show they run nearly alike),
+// 0.05 rad from the one held does not move the direction held, and no way is held before one is
+// nearer straight than another by 0.05 rad: where the legs first show they run nearly alike),
 // and a line not chosen as a branch keeps the direction it was followed in (no 180 deg flips of
 // a line across the view). Returns an index into `lines`, the model oriented along the travel
 // direction and the chosen branch's heading (when there was a choice to make).

@@ -123,8 +123,10 @@ TEST(Junction, TheBranchChosenBeforeIsKeptToThroughTheJunction) {
     }
     return out;
   };
-  // The turn comes frame by frame (5 deg a frame), the choice each frame held for the next.
+  // The turn comes frame by frame (5 deg a frame), the choice each frame held for the next and
+  // turned with the vehicle (the odometry's yaw).
   for (int step = 1; step <= 4; ++step) {
+    history.vehicle_turned(5 * kDeg);
     const std::vector<DetectedLine> far = turned(5 * step * kDeg);  // finally +20 and -50 deg
     const std::optional<Junction> far_junction = junction_of(far);
     ASSERT_TRUE(far_junction);
@@ -219,6 +221,26 @@ TEST(Junction, StraightOnIsNotHeldBetweenWaysThatTurnAlike) {
   EXPECT_NEAR(*later.branch_heading_rad, 1.0 * kDeg, 1e-6);
   // Left and right are not judged by closeness to straight: held at once.
   EXPECT_TRUE(choose_line(close, close_junction, BranchChoice::kLeft, 1.05).branch_heading_rad);
+}
+
+// Straight on, the way held moves by at most 0.05 rad a frame (its drift once the vehicle's turn
+// is taken out): a frame whose nearest way lies 4 deg from it, a poor fit between the legs, does
+// not carry it towards the branch (agv evaluate seed 33, sequence 7: held -1 deg on the way
+// straight on, moved by fits of 3, 1, 7 and 2 deg to -14 deg, nearer the branch at -20 than the
+// way at -1: 31 mm RMS).
+TEST(Junction, TheWayHeldStraightOnMovesLittleAFrame) {
+  FollowHistory history;
+  history.update(0.0, CurveModel{});
+  const std::vector<DetectedLine> near = legs_at(2.0 * kDeg, -20.0 * kDeg);
+  const FollowedLine small =
+      choose_line(near, junction_of(near), BranchChoice::kStraight, 1.05, &history);
+  ASSERT_TRUE(small.branch_heading_rad);
+  EXPECT_NEAR(*small.branch_heading_rad, 2.0 * kDeg, 1e-6);
+  const std::vector<DetectedLine> far = legs_at(-4.0 * kDeg, -20.0 * kDeg);
+  const FollowedLine large =
+      choose_line(far, junction_of(far), BranchChoice::kStraight, 1.05, &history);
+  EXPECT_EQ(large.line, 1);
+  EXPECT_FALSE(large.branch_heading_rad) << "4 deg from the way held: it stays";
 }
 
 // Through a fork on a bend the legs' directions move with the vehicle's turn (agv evaluate seed
