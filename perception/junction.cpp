@@ -231,8 +231,23 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   // is noise (agv evaluate seed 21, sequence 3: held by 0.8 deg for the branch, which was then
   // kept to); a later frame, the legs apart, decides.
   constexpr double kClearStraight_rad = 0.05;
-  auto clear_choice = [&](double best, double second) {
-    return holding || choice != BranchChoice::kStraight || best - second >= kClearStraight_rad;
+  // The best and second best scores of the ways offered; offer() says whether a way is the best
+  // so far.
+  struct TopTwo {
+    double best = -std::numeric_limits<double>::infinity(), second = best;
+    bool offer(double score) {
+      if (!(score > best)) {
+        second = std::max(second, score);
+        return false;
+      }
+      second = best;
+      best = score;
+      return true;
+    }
+  };
+  auto clear_choice = [&](const TopTwo& scores) {
+    return holding || choice != BranchChoice::kStraight ||
+           scores.best - scores.second >= kClearStraight_rad;
   };
   // Straight on from a junction in view: the direction of the tape followed before, there
   // (where the tape comes in on a bend, its direction at the fork, not the vehicle's heading: a
@@ -280,8 +295,7 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     // their far ends left or right); one line: that one.
     followed.line = best_line();
     if (lines.size() > 1) {
-      double best_score = -std::numeric_limits<double>::infinity();
-      double second_score = best_score;
+      TopTwo scores;
       for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
         const CurveModel m = as_before(lines[i]);
         const double near_s = m.arc_position(lines[i].model.point_at(lines[i].s_min_m));
@@ -291,39 +305,26 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
         // run within a few degrees of each other, which way by noise (agv evaluate seed 3,
         // sequence 11: its branch taken three times for the way left).
         const double h_far = heading_at(m, std::max(near_s, far_s));
-        const double score = score_of(h, lines[i].model.e_d_m, 0.0, h_far);
-        if (score > best_score) {
-          second_score = best_score;
-          best_score = score;
+        if (scores.offer(score_of(h, lines[i].model.e_d_m, 0.0, h_far))) {
           followed.line = i;
           followed.branch_heading_rad = held_again(h);
-        } else {
-          second_score = std::max(second_score, score);
         }
       }
-      if (!clear_choice(best_score, second_score)) followed.branch_heading_rad.reset();
+      if (!clear_choice(scores)) followed.branch_heading_rad.reset();
     }
     followed.model = as_before(lines[followed.line]);
     return followed;
   }
   int chosen = -1;
-  double best_score = -std::numeric_limits<double>::infinity();
-  double second_score = best_score;
+  TopTwo scores;
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
     if (k == junction->incoming) continue;
-    const double score =
-        score_of(junction->branches[k].heading_rad, 0.0, straight_on_rad(junction->point_m));
-    if (score > best_score) {
-      second_score = best_score;
-      best_score = score;
+    if (scores.offer(
+            score_of(junction->branches[k].heading_rad, 0.0, straight_on_rad(junction->point_m))))
       chosen = k;
-    } else {
-      second_score = std::max(second_score, score);
-    }
   }
   const Branch* branch = chosen >= 0 ? &junction->branches[chosen] : nullptr;
-  if (branch && clear_choice(best_score, second_score))
-    followed.branch_heading_rad = held_again(branch->heading_rad);
+  if (branch && clear_choice(scores)) followed.branch_heading_rad = held_again(branch->heading_rad);
   // Line i oriented so that it leaves the junction in direction h.
   auto leaving = [&](int i, double h) {
     const CurveModel& m = lines[i].model;
