@@ -304,6 +304,7 @@ void PathMemory::reset() {
   reset_misalignment();
   last_odometry_.reset();
   tape_heading_rad_.reset();
+  ahead_heading_rad_.reset();
   corner_passed_at_m_.reset();
   recent_headings_.clear();
   last_course_.reset();
@@ -865,12 +866,15 @@ std::optional<CurveModel> PathMemory::line_after_arc(
 }
 
 std::optional<LineMeasurement> PathMemory::from_tape_ahead(
-    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle,
+    std::optional<double> ahead_before_rad) const {
   // Not in the memory's warm-up (there the line in view carried back is what the memory has).
   if (!last_course_) return std::nullopt;
-  // In a frame along the line in view's direction at the origin (then turned by the fit's slope,
-  // up to twice, as at_origin does): the remembered tape nearest ahead of the origin.
-  double frame_rad = -in_view.e_theta_rad;
+  // In a frame along the tape ahead read the frame before, else along the line in view's
+  // direction at the origin (then turned by the fit's slope, up to twice, as at_origin does): the
+  // remembered tape nearest ahead of the origin.
+  double frame_rad = ahead_before_rad ? wrap_angle_rad(*ahead_before_rad - vehicle_.yaw_rad)
+                                      : -in_view.e_theta_rad;
   std::optional<JoinedArcs> fit;
   double kept = 0.0;  // the fraction of the points the fit kept (the rest: another tape)
   JoinedArcsOptions one_piece;
@@ -1274,6 +1278,8 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
                                    const std::optional<Pose2>& odometry, OdometryKind kind) {
   LineMeasurement carried_back = in_view;
   carried_back.extrapolated = in_view.line_found;
+  // From one frame's from_tape_ahead to the next's only.
+  const std::optional<double> ahead_before_rad = std::exchange(ahead_heading_rad_, std::nullopt);
   if (!odometry) {
     reset();
     return carried_back;
@@ -1330,8 +1336,10 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   read_off_corner_ = off_corner;
   if (!m) {
     // Not yet on remembered tape: what is remembered nearest ahead, carried back.
-    if (std::optional<LineMeasurement> ahead = from_tape_ahead(in_view, in_vehicle)) {
+    if (std::optional<LineMeasurement> ahead =
+            from_tape_ahead(in_view, in_vehicle, ahead_before_rad)) {
       tape_heading_rad_.reset();
+      ahead_heading_rad_ = vehicle_.yaw_rad - ahead->e_theta_rad;
       return *ahead;
     }
   }

@@ -399,9 +399,13 @@ class PathMemory {
   // arc fitted to the remembered tape over ahead_span_m from its nearest point (at least 3
   // min_points points, over half that span, ahead_min_kept of them kept, residual under
   // ahead_max_rms_m, curvature under max_curvature_1_m, agreeing with the last course carried
-  // forward: ahead_course_*), flagged extrapolated; else nothing.
-  std::optional<LineMeasurement> from_tape_ahead(
-      const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const;
+  // forward: ahead_course_*), flagged extrapolated; else nothing. Looked for along the tape ahead
+  // read so the frame before (ahead_before_rad, memory frame), else along the line in view
+  // (which, its evidence further ahead, may run off another way: a corner's arc fitted beyond the
+  // straight tape remembered).
+  std::optional<LineMeasurement> from_tape_ahead(const LineMeasurement& in_view,
+                                                 const std::vector<Eigen::Vector2d>& in_vehicle,
+                                                 std::optional<double> ahead_before_rad) const;
   // A frame without a line in view, after tape that turned out of the view or with the tape
   // still seen where remembered: the errors from the remembered tape alone, where it lies under
   // the vehicle; else `in_view` as it is.
@@ -466,6 +470,7 @@ class PathMemory {
   int disagreeing_frames_ = 0;        // frames in a row whose line shows another width, no evidence
   double disagreeing_width_m_ = 0.0;  // ... the width they show
   std::optional<double> tape_heading_rad_;    // the tape's direction at the origin, memory frame
+  std::optional<double> ahead_heading_rad_;   // this frame's from_tape_ahead, memory frame
   bool turns_out_of_view_ = false;            // the tape last seen turned out of the view
   double odometer_m_ = 0.0;                   // distance driven since the start
   std::optional<double> corner_passed_at_m_;  // odometer when last remembered only past a corner
