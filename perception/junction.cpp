@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "common/angles.h"
 #include "common/input_error.h"
@@ -43,6 +44,41 @@ std::optional<double> overlap_before(const CurveModel& a, const CurveModel& b, d
     if (std::abs(other.signed_distance(a.point_at(s))) <= 0.5 * width_m) return s;
   }
   return std::nullopt;
+}
+
+// The branches that are halves of a tape crossing the one followed: where the tape the vehicle
+// arrives on goes on straight through the point (a branch opposite the incoming one), two other
+// branches opposite each other, each at least kCrossing_rad across the tape followed, are the
+// crossing tape's halves (a fork's branch, its line running back through the point along the
+// stem, leaves nearly tangentially). A tape crossing is no junction: the way on is straight
+// through (agv evaluate seed 27, sequence 11: a path crossing itself after a fork taken left;
+// its crossing half 52 deg to the left was the way left, and followed).
+std::vector<bool> crossing_halves(const Junction& junction) {
+  constexpr double kOpposite_rad = 0.2;  // the tapes' curvature over a branch's length
+  constexpr double kCrossing_rad = 0.5;
+  const std::vector<Branch>& b = junction.branches;
+  std::vector<bool> halves(b.size(), false);
+  if (junction.incoming < 0) return halves;
+  auto opposite = [](double a_rad, double b_rad) {
+    return std::abs(wrap_angle_rad(a_rad - b_rad - M_PI)) < kOpposite_rad;
+  };
+  const double incoming_rad = b[junction.incoming].heading_rad;
+  bool goes_through = false;
+  for (size_t k = 0; k < b.size(); ++k)
+    goes_through = goes_through || (static_cast<int>(k) != junction.incoming &&
+                                    opposite(b[k].heading_rad, incoming_rad));
+  if (!goes_through) return halves;
+  for (size_t k = 0; k < b.size(); ++k) {
+    for (size_t j = 0; j < b.size(); ++j) {
+      if (j == k || static_cast<int>(k) == junction.incoming ||
+          static_cast<int>(j) == junction.incoming)
+        continue;
+      const bool across =
+          std::abs(std::sin(b[k].heading_rad - incoming_rad)) >= std::sin(kCrossing_rad);
+      if (across && opposite(b[k].heading_rad, b[j].heading_rad)) halves[k] = true;
+    }
+  }
+  return halves;
 }
 
 }  // namespace
@@ -317,8 +353,9 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   }
   int chosen = -1;
   TopTwo scores;
+  const std::vector<bool> crossing = crossing_halves(*junction);
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
-    if (k == junction->incoming) continue;
+    if (k == junction->incoming || crossing[k]) continue;
     if (scores.offer(
             score_of(junction->branches[k].heading_rad, 0.0, straight_on_rad(junction->point_m))))
       chosen = k;

@@ -79,8 +79,11 @@ struct FollowHistory {
 // 0.05 rad from the one held does not move the direction held, and no way is held before one is
 // nearer straight than another by 0.05 rad: where the legs first show they run nearly alike),
 // and a line not chosen as a branch keeps the direction it was followed in (no 180 deg flips of
-// a line across the view). Returns an index into `lines`, the model oriented along the travel
-// direction and the chosen branch's heading (when there was a choice to make).
+// a line across the view). A tape crossing the one followed (an X: its halves leave the point
+// opposite each other, at least 0.5 rad across, and the tape followed goes on through it) is no
+// junction: its halves are not offered, the way on is straight through. Returns an index into
+// `lines`, the model oriented along the travel direction and the chosen branch's heading (when
+// there was a choice to make).
 struct FollowedLine {
   int line = -1;
   CurveModel model;

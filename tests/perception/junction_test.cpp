@@ -79,6 +79,48 @@ TEST(Junction, TheChoiceNamesTheBranch) {
   EXPECT_EQ(choose_line(lines, junction, BranchChoice::kRight, 1.05).line, 0);
 }
 
+// A tape crossing the one followed (an X): the tape runs straight on along the x axis, 0.2-0.45 m
+// ahead; another crosses it at (0.3, 0) at 52 deg, seen from 0.1 m to its right to 0.1 m to its
+// left. Its halves leave the point opposite each other; they are no way to take: left and right
+// go on straight through (agv evaluate seed 27, sequence 11 followed the half at 52 deg as the
+// way left). A T met from its stem, its bar's halves opposite each other but nothing straight on,
+// is a junction: there left and right take the bar's halves. So is a line through the point at
+// 15 deg (a fork's branch whose fitted line runs back along the stem): left takes it.
+TEST(Junction, ATapeCrossingIsNoWayToTake) {
+  const double h = 52 * kDeg;
+  const Eigen::Vector2d at(0.3, 0.0), along(std::cos(h), std::sin(h));
+  const Eigen::Vector2d from = at - 0.1 * along, to = at + 0.1 * along;
+  const std::vector<DetectedLine> x = {seen_line(0.2, 0.0, 0.45, 0.0),
+                                       seen_line(from.x(), from.y(), to.x(), to.y())};
+  const std::optional<Junction> crossing = junction_of(x);
+  ASSERT_TRUE(crossing);
+  ASSERT_EQ(crossing->branches.size(), 4u);
+  for (BranchChoice choice : {BranchChoice::kLeft, BranchChoice::kStraight, BranchChoice::kRight}) {
+    const FollowedLine followed = choose_line(x, crossing, choice, 1.05);
+    EXPECT_EQ(followed.line, 0) << branch_choice_name(choice);
+    EXPECT_NEAR(followed.model.heading_rad, 0.0, 1e-6) << branch_choice_name(choice);
+  }
+  const std::vector<DetectedLine> t = {seen_line(0.1, 0.0, 0.3, 0.0),
+                                       seen_line(0.3, -0.12, 0.3, 0.12)};
+  const std::optional<Junction> t_junction = junction_of(t);
+  ASSERT_TRUE(t_junction);
+  ASSERT_EQ(t_junction->branches.size(), 3u);
+  const FollowedLine left = choose_line(t, t_junction, BranchChoice::kLeft, 2.0);
+  EXPECT_EQ(left.line, 1);
+  EXPECT_NEAR(left.model.heading_rad, M_PI / 2, 1e-6);
+  const FollowedLine right = choose_line(t, t_junction, BranchChoice::kRight, 2.0);
+  EXPECT_EQ(right.line, 1);
+  EXPECT_NEAR(right.model.heading_rad, -M_PI / 2, 1e-6);
+  const double shallow = 15 * kDeg;
+  const Eigen::Vector2d along_stem(std::cos(shallow), std::sin(shallow));
+  const Eigen::Vector2d back = at - 0.1 * along_stem, on = at + 0.12 * along_stem;
+  const std::vector<DetectedLine> y = {seen_line(0.1, 0.0, 0.45, 0.0),
+                                       seen_line(back.x(), back.y(), on.x(), on.y())};
+  const std::optional<Junction> fork = junction_of(y);
+  ASSERT_TRUE(fork);
+  EXPECT_EQ(choose_line(y, fork, BranchChoice::kLeft, 1.05).line, 1);
+}
+
 // A Y fork whose legs do not meet in view (the split just below the image): the straight tape,
 // and 30 mm to its right the branch, bending away right (R 0.5 m) from a near end where its
 // fitted direction points 3.4 deg left (near the split the two legs run parallel within a few
