@@ -318,6 +318,13 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     if (!history || !history->followed) return m;
     return m.oriented_like(*history->followed, m.point_at(0.5 * (line.s_min_m + line.s_max_m)));
   };
+  // Line i's direction (as followed before) at its near end.
+  auto near_heading = [&](int i) {
+    const CurveModel m = as_before(lines[i]);
+    const double near_s = std::min(m.arc_position(lines[i].model.point_at(lines[i].s_min_m)),
+                                   m.arc_position(lines[i].model.point_at(lines[i].s_max_m)));
+    return heading_at(m, near_s);
+  };
   auto best_line = [&] {
     int best = 0;
     for (int i = 1; i < static_cast<int>(lines.size()); ++i) {
@@ -362,6 +369,34 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   }
   const Branch* branch = chosen >= 0 ? &junction->branches[chosen] : nullptr;
   if (branch && clear_choice(scores)) followed.branch_heading_rad = held_again(branch->heading_rad);
+  // Straight on, a way held that a line in view runs along, nearer than the way the junction
+  // offers by kNearerHeld_rad: that line (where a fork's wide legs overlap, the junction found may
+  // offer only the branch, the way held a line of its own beside it: agv evaluate seed 36,
+  // sequence 1 followed the branch there and remembered it as the tape under the vehicle). Not a
+  // crossing tape's line.
+  constexpr double kNearerHeld_rad = 0.2;
+  if (holding && branch && choice == BranchChoice::kStraight) {
+    std::vector<bool> offered(lines.size(), true);
+    offered[branch->line] = false;
+    for (size_t k = 0; k < junction->branches.size(); ++k)
+      if (crossing[k]) offered[junction->branches[k].line] = false;
+    int nearer = -1;
+    double nearest_rad = std::abs(wrap_angle_rad(branch->heading_rad - held_rad)) - kNearerHeld_rad;
+    for (int i = 0; i < static_cast<int>(lines.size()); ++i) {
+      if (!offered[i]) continue;
+      const double off_rad = std::abs(wrap_angle_rad(near_heading(i) - held_rad));
+      if (off_rad < nearest_rad) {
+        nearest_rad = off_rad;
+        nearer = i;
+      }
+    }
+    if (nearer >= 0) {
+      followed.line = nearer;
+      followed.model = as_before(lines[nearer]);
+      followed.branch_heading_rad = held_again(near_heading(nearer));
+      return followed;
+    }
+  }
   // Line i oriented so that it leaves the junction in direction h.
   auto leaving = [&](int i, double h) {
     const CurveModel& m = lines[i].model;

@@ -81,7 +81,9 @@ struct FollowHistory {
 // and a line not chosen as a branch keeps the direction it was followed in (no 180 deg flips of
 // a line across the view). A tape crossing the one followed (an X: its halves leave the point
 // opposite each other, at least 0.5 rad across, and the tape followed goes on through it) is no
-// junction: its halves are not offered, the way on is straight through. Returns an index into
+// junction: its halves are not offered, the way on is straight through. Where a line in view runs
+// nearer the way held than the branch the junction offers (by 0.2 rad), that line is followed (a
+// fork's wide legs overlapping: the way held may be a line of its own). Returns an index into
 // `lines`, the model oriented along the travel direction and the chosen branch's heading (when
 // there was a choice to make).
 struct FollowedLine {

@@ -299,6 +299,34 @@ TEST(Junction, TheWayHeldTurnsWithTheVehicle) {
   EXPECT_EQ(choose_line(legs, junction_of(legs), BranchChoice::kStraight, 1.05, &history).line, 2);
 }
 
+// Where a fork's wide legs overlap, the junction found may offer only the branch (line 0
+// through the point, leaving at 30 deg), the way held straight on a line of its own beside it
+// (line 1, 10 mm to the right, not part of the junction): that line is followed (agv evaluate
+// seed 36, sequence 1 followed the branch). A line no nearer the way held than the branch by
+// 0.2 rad is not.
+TEST(Junction, TheWayHeldIsFollowedWhereTheJunctionOffersOnlyTheBranch) {
+  FollowHistory history;
+  history.update(0.0, CurveModel{});
+  const double h = 30 * kDeg;
+  const Eigen::Vector2d at(0.3, 0.0), along(std::cos(h), std::sin(h));
+  const Eigen::Vector2d from = at - 0.12 * along, to = at + 0.12 * along;
+  const std::vector<DetectedLine> lines = {seen_line(from.x(), from.y(), to.x(), to.y()),
+                                           seen_line(0.2, -0.01, 0.45, -0.01)};
+  Junction junction;
+  junction.point_m = at;
+  junction.branches = {{0, h, 0.12, to}, {0, h - M_PI, 0.12, from}};
+  junction.incoming = 1;
+  const FollowedLine followed =
+      choose_line(lines, junction, BranchChoice::kStraight, 1.05, &history);
+  EXPECT_EQ(followed.line, 1);
+  EXPECT_NEAR(followed.model.heading_rad, 0.0, 1e-9);
+  ASSERT_TRUE(followed.branch_heading_rad);
+  EXPECT_NEAR(*followed.branch_heading_rad, 0.0, 1e-9);
+  const std::vector<DetectedLine> near_branch = {
+      lines[0], seen_line(0.2, -0.01, 0.2 + 0.25 * std::cos(0.35), -0.01 + 0.25 * std::sin(0.35))};
+  EXPECT_EQ(choose_line(near_branch, junction, BranchChoice::kStraight, 1.05, &history).line, 0);
+}
+
 TEST(Junction, TheHeldBranchIsForgottenOnceTheJunctionIsBehind) {
   FollowHistory history;
   history.update(0.5, CurveModel{});
