@@ -69,13 +69,13 @@ std::vector<bool> crossing_halves(const Junction& junction) {
                                     opposite(b[k].heading_rad, incoming_rad));
   if (!goes_through) return halves;
   for (size_t k = 0; k < b.size(); ++k) {
+    if (static_cast<int>(k) == junction.incoming ||
+        std::abs(std::sin(b[k].heading_rad - incoming_rad)) < std::sin(kCrossing_rad))
+      continue;
     for (size_t j = 0; j < b.size(); ++j) {
-      if (j == k || static_cast<int>(k) == junction.incoming ||
-          static_cast<int>(j) == junction.incoming)
-        continue;
-      const bool across =
-          std::abs(std::sin(b[k].heading_rad - incoming_rad)) >= std::sin(kCrossing_rad);
-      if (across && opposite(b[k].heading_rad, b[j].heading_rad)) halves[k] = true;
+      if (j != k && static_cast<int>(j) != junction.incoming &&
+          opposite(b[k].heading_rad, b[j].heading_rad))
+        halves[k] = true;
     }
   }
   return halves;
