@@ -52,7 +52,9 @@ void add_source_options(CLI::App* sub, SourceArgs& args, const std::string& sour
                   "Path speed the controller assumes, m/s (--set path_speed_m_s=; default: the "
                   "scenario's)")
       ->check(CLI::Range(0.0, 5.0));
-  sub->add_option("--branch", args.branch, "Branch to follow where lines meet")
+  sub->add_option("--branch", args.branch,
+                  "Way to take where the tape forks (kept to through the junction); a tape "
+                  "crossing the one followed (an X) is driven straight through")
       ->check(CLI::IsMember({"left", "straight", "right"}))
       ->capture_default_str();
   sub->add_option("--tape-width-m", args.tape_width_m,
