@@ -95,6 +95,34 @@ TEST(EdgeScan, WindowEndingOnTheTapeIsWidened) {
   expect_edges_at_half_way(frame, coarse, 0.01);
 }
 
+// The tape of tape_frame(kFloor, 0) with a worn spot of floor inside it (x 320-325, 6 pixels
+// from the first tape pixel the walk to the second edge starts from) on every third band of 24
+// rows.
+cv::Mat tape_frame_with_worn_spots() {
+  cv::Mat frame = tape_frame(kFloor, 0);
+  for (int y = 0; y < kHeight; ++y)
+    if ((y / 24) % 3 == 0) frame.row(y).colRange(320, 326).setTo(cv::Scalar(kFloor));
+  return frame;
+}
+
+// A worn spot inside the tape, shorter than max_dip_px, is crossed: the edge beyond it is where
+// the other rows have it (not at the spot, 22 pixels in). Tolerance 0.05 px, as for a floor
+// brighter a few pixels out.
+TEST(EdgeScan, AWornSpotInsideTheTapeIsCrossed) {
+  const TapeRegions coarse = coarse_columns(76, 83);
+  EdgeScanOptions options;
+  options.flank_px = 24;
+  options.max_dip_px = 12;
+  options.step = 4;
+  const std::vector<EdgePair> edges = scan_tape_edges(tape_frame_with_worn_spots(), grey_axis(),
+                                                      coarse, coarse.regions[0], true, options);
+  ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 4));
+  for (const EdgePair& e : edges) {
+    EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.05) << "row " << e.first_px.y;
+    EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.05) << "row " << e.first_px.y;
+  }
+}
+
 // A tape running out of the image on the left: tape from the border to a ramp 4 pixels wide
 // (x 296-300), floor beyond; the half-way level lies at x = 298 exactly.
 cv::Mat tape_from_left_border_frame() {
