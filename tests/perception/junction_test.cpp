@@ -327,6 +327,34 @@ TEST(Junction, TheWayHeldIsFollowedWhereTheJunctionOffersOnlyTheBranch) {
   EXPECT_EQ(choose_line(near_branch, junction, BranchChoice::kStraight, 1.05, &history).line, 0);
 }
 
+// A fork whose way straight on is not yet a line of its own shows as a corner: the tape comes in
+// along the x axis and only the branch, 60 deg to the left, leaves the point (0.3, 0). That one
+// way out is followed, but not held as the way chosen: in the next frame both legs show and the
+// way right (straight on) is taken, not the branch held the frame before (agv evaluate seed 5,
+// sequence 6, with other edges: the branch held for the way right, and kept to).
+TEST(Junction, TheOnlyWayOutIsFollowedButNotHeld) {
+  const double h = 60 * kDeg;
+  const DetectedLine incoming = seen_line(0.2, 0.0, 0.3, 0.0);
+  const DetectedLine branch = seen_line(0.3, 0.0, 0.3 + 0.1 * std::cos(h), 0.1 * std::sin(h));
+  const std::vector<DetectedLine> corner = {incoming, branch};
+  const std::optional<Junction> corner_junction = junction_of(corner);
+  ASSERT_TRUE(corner_junction);
+  ASSERT_EQ(corner_junction->branches.size(), 2u);
+  FollowHistory history;
+  const FollowedLine first =
+      choose_line(corner, corner_junction, BranchChoice::kRight, 1.05, &history);
+  EXPECT_EQ(first.line, 1);
+  EXPECT_FALSE(first.branch_heading_rad);
+  history.update(first.branch_heading_rad, first.model);
+  const std::vector<DetectedLine> fork = {seen_line(0.2, 0.0, 0.4, 0.0), branch};
+  const std::optional<Junction> fork_junction = junction_of(fork);
+  ASSERT_TRUE(fork_junction);
+  const FollowedLine next = choose_line(fork, fork_junction, BranchChoice::kRight, 1.05, &history);
+  EXPECT_EQ(next.line, 0);
+  ASSERT_TRUE(next.branch_heading_rad);
+  EXPECT_NEAR(*next.branch_heading_rad, 0.0, 1e-6);
+}
+
 TEST(Junction, TheHeldBranchIsForgottenOnceTheJunctionIsBehind) {
   FollowHistory history;
   history.update(0.5, CurveModel{});
