@@ -95,9 +95,9 @@ TEST(EdgeScan, WindowEndingOnTheTapeIsWidened) {
   expect_edges_at_half_way(frame, coarse, 0.01);
 }
 
-// The tape of tape_frame(kFloor, 0) with a worn spot of floor inside it (x 320-325, 6 pixels
-// from the first tape pixel the walk to the second edge starts from) on every third band of 24
-// rows.
+// The tape of tape_frame(kFloor, 0) with a worn spot of floor inside it on every third band of
+// 24 rows: x 320-325, between the peak the walks start from (the coarse run's first sample, x 304)
+// and the second edge.
 cv::Mat tape_frame_with_worn_spots() {
   cv::Mat frame = tape_frame(kFloor, 0);
   for (int y = 0; y < kHeight; ++y)
