@@ -358,13 +358,11 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
     followed.model = as_before(lines[followed.line]);
     return followed;
   }
-  int chosen = -1, ways = 0;
+  int chosen = -1;
   TopTwo scores;
   const std::vector<bool> crossing = crossing_halves(*junction);
   for (int k = 0; k < static_cast<int>(junction->branches.size()); ++k) {
-    if (k == junction->incoming) continue;
-    ++ways;  // a crossing tape's halves too: the way through a crossing is held
-    if (crossing[k]) continue;
+    if (k == junction->incoming || crossing[k]) continue;
     if (scores.offer(
             score_of(junction->branches[k].heading_rad, 0.0, straight_on_rad(junction->point_m))))
       chosen = k;
@@ -373,7 +371,8 @@ FollowedLine choose_line(const std::vector<DetectedLine>& lines,
   // The only way out of a corner is followed but not held as the way chosen: a fork whose other
   // leg is not yet a line of its own shows as a corner for a frame or two (agv evaluate seed 5,
   // sequence 6, with other edges: the branch held for the way right, and kept to once both legs
-  // showed).
+  // showed). A crossing tape's halves count as ways: the way through a crossing is held.
+  const int ways = static_cast<int>(junction->branches.size()) - (junction->incoming >= 0 ? 1 : 0);
   if (branch && ways >= 2 && clear_choice(scores))
     followed.branch_heading_rad = held_again(branch->heading_rad);
   // Straight on, a way held that a line in view runs along, nearer than the way the junction
