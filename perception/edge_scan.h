@@ -38,7 +38,11 @@ struct EdgeScanOptions {
 // the region on a scan line is one crossing of the tape: around it, the two places where the
 // contrast crosses half-way between the floor's and the tape's levels right next to that edge
 // (each edge separately). Half-way crossings of a blurred, symmetric edge sit on the true edge.
-// A window that ends on the tape (the run held only part of its width) is widened once.
+// A window that ends on the tape (the run held only part of its width) is widened once. Dips
+// up to max_dip_px are crossed (worn spots), except, on a textured floor (floor noise 0.05 tape
+// contrasts or more), where the crossing's edge beyond a dip does not line up with the edges the
+// neighbouring scan lines agree on and the edge before it does: the dip was a gap of floor
+// between the tape and a blob as bright as it.
 std::vector<EdgePair> scan_tape_edges(const cv::Mat& frame, const ContrastAxis& axis,
                                       const TapeRegions& coarse, const TapeRegion& region,
                                       bool along_rows, const EdgeScanOptions& options);

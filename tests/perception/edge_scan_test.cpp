@@ -105,22 +105,43 @@ cv::Mat tape_frame_with_worn_spots() {
   return frame;
 }
 
-// A worn spot inside the tape, shorter than max_dip_px, is crossed: the edge beyond it is where
-// the other rows have it (not at the spot, 22 pixels in). Tolerance 0.05 px, as for a floor
-// brighter a few pixels out.
-TEST(EdgeScan, AWornSpotInsideTheTapeIsCrossed) {
-  const TapeRegions coarse = coarse_columns(76, 83);
+// Scans every 4th row of `frame` across the coarse region of tape_frame's tape, crossing dips
+// up to 12 px, on a floor of the given noise (0.05 tape contrasts and more: textured), and
+// expects the tape's two edges on each row. Tolerance 0.05 px, as for a floor brighter a few
+// pixels out.
+void expect_tape_edges_across_dips(const cv::Mat& frame, float floor_noise) {
+  TapeRegions coarse = coarse_columns(76, 83);
+  coarse.floor_noise = floor_noise;
   EdgeScanOptions options;
   options.flank_px = 24;
   options.max_dip_px = 12;
   options.step = 4;
-  const std::vector<EdgePair> edges = scan_tape_edges(tape_frame_with_worn_spots(), grey_axis(),
-                                                      coarse, coarse.regions[0], true, options);
+  const std::vector<EdgePair> edges =
+      scan_tape_edges(frame, grey_axis(), coarse, coarse.regions[0], true, options);
   ASSERT_EQ(edges.size(), static_cast<size_t>(kHeight / 4));
   for (const EdgePair& e : edges) {
     EXPECT_NEAR(e.first_px.x, kFirstEdgePx, 0.05) << "row " << e.first_px.y;
     EXPECT_NEAR(e.second_px.x, kSecondEdgePx, 0.05) << "row " << e.first_px.y;
   }
+}
+
+// A worn spot inside the tape, shorter than max_dip_px, is crossed: the edge beyond it is where
+// the other rows have it (not at the spot, 22 pixels in); on a plain floor and on a textured one,
+// where the walk that crosses no dip is tried too (it stops at the spot, which lines up with no
+// other row's edge).
+TEST(EdgeScan, AWornSpotInsideTheTapeIsCrossed) {
+  expect_tape_edges_across_dips(tape_frame_with_worn_spots(), 0.01f);
+  expect_tape_edges_across_dips(tape_frame_with_worn_spots(), 0.1f);
+}
+
+// On a textured floor, a blob as bright as the tape beside it, 8 pixels of floor between (a dip
+// shorter than max_dip_px), on every third band of 24 rows (x 352-379): the tape's edge stays
+// where the other rows have it (crossing the dip, it would be the blob's rim, 38 pixels out).
+TEST(EdgeScan, ABlobAsBrightAsTheTapeBesideItIsNotTape) {
+  cv::Mat frame = tape_frame(kFloor, 0);
+  for (int y = 0; y < kHeight; ++y)
+    if ((y / 24) % 3 == 0) frame.row(y).colRange(352, 380).setTo(cv::Scalar(kTape));
+  expect_tape_edges_across_dips(frame, 0.1f);
 }
 
 // A tape running out of the image on the left: tape from the border to a ramp 4 pixels wide
