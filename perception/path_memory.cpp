@@ -1051,7 +1051,14 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
   // other's has its centre on neither, and the line's own median width may be the merged one),
   // and not within a tape width of another line in view.
   const DetectedLine& line = detection.lines[detection.followed];
-  if (!(tape_width_m_ > 0.0)) tape_width_m_ = line.width_m;
+  // A line of unknown width (0: no chord with both edges on it, a fit to single edges) says
+  // nothing of the tape's width, and its chords' middles are not the tape's centre: no evidence
+  // until a width is known (remembered from it, 6 mm for 97 mm tape, every chord of that tape
+  // was refused from then on).
+  if (!(tape_width_m_ > 0.0)) {
+    if (!(line.width_m > 0.0)) return {};
+    tape_width_m_ = line.width_m;
+  }
   std::vector<double> widths;
   // Chords across the overlap of a junction's legs first: a chord only a little wider than the
   // tape there has its midpoint off the followed leg's centre by half the excess.
@@ -1062,13 +1069,25 @@ std::vector<Eigen::Vector2d> PathMemory::evidence_of(const LineDetection& detect
   // A width taken from a first frame that saw only part of the tape would refuse every chord of
   // the whole tape from then on (98 mm tape remembered as 81 mm: no evidence for metres): where
   // the followed line keeps showing one other width and none of its chords is accepted, for
-  // relatch_frames frames in a row, that width is the tape's.
-  const bool disagrees = evidence.size() < 3 && std::abs(line.width_m - tape_width_m_) >
-                                                    options_.chord_width_tolerance * tape_width_m_;
+  // relatch_frames frames more than those of a third width (a majority vote: the full search
+  // every 10th frame finding another line, a shadow's edge, no longer starts the count again),
+  // that width is the tape's. A frame whose line's width is unknown does not vote.
+  const bool known_width = line.width_m > 0.0;
+  const bool disagrees =
+      known_width && evidence.size() < 3 &&
+      std::abs(line.width_m - tape_width_m_) > options_.chord_width_tolerance * tape_width_m_;
   const bool same_as_before = std::abs(line.width_m - disagreeing_width_m_) <=
                               options_.chord_width_tolerance * line.width_m;
-  disagreeing_frames_ = !disagrees ? 0 : same_as_before ? disagreeing_frames_ + 1 : 1;
-  if (disagrees) disagreeing_width_m_ = line.width_m;
+  if (!disagrees) {
+    if (known_width) disagreeing_frames_ = 0;
+  } else if (same_as_before) {
+    ++disagreeing_frames_;
+  } else if (disagreeing_frames_ > 0) {
+    --disagreeing_frames_;
+  } else {
+    disagreeing_width_m_ = line.width_m;
+    disagreeing_frames_ = 1;
+  }
   if (disagreeing_frames_ >= options_.relatch_frames) {
     tape_width_m_ = line.width_m;
     disagreeing_frames_ = 0;

@@ -111,7 +111,7 @@ struct PathMemoryOptions {
   double overlap_same_side = 0.9;
   double overlap_min_correlation = 0.7;
   int relatch_frames = 20;  // ... or the line's width, where it shows one other, no chord taken,
-                            //     this many frames in a row
+                            //     on this many frames more than those showing a third width
   double gate_m = 0.003;           // remembered points this near the tape in view are the same tape
   double neighbourhood_m = 0.008;  // the tape's local direction from its evidence this near
   int min_overlap_points = 20;     // registration needs this many of them
@@ -467,7 +467,8 @@ class PathMemory {
   Pose2 vehicle_;  // the vehicle in the memory frame, at the last update
   int frame_ = 0;
   double tape_width_m_ = 0.0;                 // the width of the evidence remembered (0: none yet)
-  int disagreeing_frames_ = 0;        // frames in a row whose line shows another width, no evidence
+  int disagreeing_frames_ = 0;        // frames whose line shows another width, no evidence, less
+                                      // those showing a third
   double disagreeing_width_m_ = 0.0;  // ... the width they show
   std::optional<double> tape_heading_rad_;    // the tape's direction at the origin, memory frame
   std::optional<double> ahead_heading_rad_;   // this frame's from_tape_ahead, memory frame

@@ -581,40 +581,101 @@ TEST(PathMemory, WithoutOdometryEveryFrameIsExtrapolated) {
   }
 }
 
+// `seen` made to show its chords `width_m` wide about their own middles, its line that wide (0:
+// unknown, a line fitted to single edges).
+void with_chords_wide(double width_m, LineDetection* seen) {
+  for (Chord& chord : seen->chords) {
+    const Eigen::Vector2d middle = chord.centre(), half = 0.5 * (chord.a - chord.b);
+    chord.a = middle + half * (width_m / kTapeWidthM);
+    chord.b = middle - half * (width_m / kTapeWidthM);
+  }
+  seen->lines[0].width_m = width_m;
+}
+
+// Straight tape driven 10 mm a frame with exact odometry, each frame's view of it (seen_from)
+// changed by `change(k, &seen)` where that returns true (then carried back from 80 mm aside, else
+// from 2 mm); from frame `from_frame` on, the frames not changed must come from the remembered
+// tape, within 0.1 mm (exact evidence and odometry). Returns how many did.
+int from_memory_after(int frames, int from_frame, bool (*change)(int, LineDetection*)) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  PathMemory memory;
+  int from_memory = 0;
+  for (int k = 0; k < frames; ++k) {
+    const double s = 0.01 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineDetection seen = seen_from(path, vehicle, s);
+    const bool changed = change(k, &seen);
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = changed ? 0.08 : 0.002;
+    const LineMeasurement m = memory.update(in_view, seen, vehicle);
+    if (k < from_frame || changed) continue;
+    EXPECT_FALSE(m.extrapolated) << k;
+    if (m.extrapolated) continue;
+    ++from_memory;
+    EXPECT_NEAR(m.e_d_m, 0.0, 1e-4) << k;
+  }
+  return from_memory;
+}
+
+// `seen` moved `across_m` to the left (its chords and its line).
+void moved_aside(double across_m, LineDetection* seen) {
+  for (Chord& chord : seen->chords) {
+    chord.a.y() += across_m;
+    chord.b.y() += across_m;
+  }
+  seen->lines[0].model.e_d_m -= across_m;
+}
+
 // The first frame sees only part of the tape's width (the tape cut by the image's edge: 22 of
 // its 30 mm), every later frame all of it. The memory takes its tape width from the first frame
 // and refused every later chord as too wide (6 % tolerance) for as long as it lived: once the
 // vehicle had passed the first frame's tape, every frame was carried back from the view. Now the
 // width the line keeps showing is taken after relatch_frames frames without evidence, and the
-// last 40 frames come from the remembered tape (exact evidence and odometry: within 0.1 mm).
+// last 40 frames come from the remembered tape.
 TEST(PathMemory, ATapeWidthFirstSeenTooNarrowIsCorrected) {
-  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
-  PathMemory memory;
-  int from_memory_at_end = 0;
-  for (int k = 0; k < 100; ++k) {
-    const double s = 0.01 * k;
-    const Pose2 vehicle{s, 0.0, 0.0};
-    LineDetection seen = seen_from(path, vehicle, s);
-    if (k == 0) {
-      constexpr double kPartWidthM = 0.022;
-      for (Chord& chord : seen.chords) {
-        const Eigen::Vector2d middle = chord.centre(), half = 0.5 * (chord.a - chord.b);
-        chord.a = middle + half * (kPartWidthM / kTapeWidthM);
-        chord.b = middle - half * (kPartWidthM / kTapeWidthM);
-      }
-      seen.lines[0].width_m = kPartWidthM;
-    }
-    LineMeasurement in_view;
-    in_view.line_found = true;
-    in_view.e_d_m = 0.002;  // carried back from the view: 2 mm off
-    const LineMeasurement m = memory.update(in_view, seen, vehicle);
-    if (k < 60) continue;
-    EXPECT_FALSE(m.extrapolated) << k;
-    if (m.extrapolated) continue;
-    ++from_memory_at_end;
-    EXPECT_NEAR(m.e_d_m, 0.0, 1e-4) << k;
-  }
-  EXPECT_EQ(from_memory_at_end, 40);
+  EXPECT_EQ(from_memory_after(100, 60,
+                              [](int k, LineDetection* seen) {
+                                if (k == 0) with_chords_wide(0.022, seen);
+                                return false;
+                              }),
+            40);
+}
+
+// A first frame whose line has no width (no chord with both edges on it, as a full search found
+// along a hard shadow's edge on 97 mm tape: its chords 12 mm wide, their middles 25 mm beside the
+// tape's centre), then the tape itself. The width is taken from the first line that shows one:
+// the memory reads the tape under the vehicle once it reaches the second frame's tape (0.17 m
+// ahead, 18 frames; from frame 25 on, with the window's cover). It remembered a width of 0, took
+// every chord of that frame and set the width from them (to a fifth of 12 mm: every chord of the
+// tape refused for relatch_frames frames): frames 25-32 were read off the first frame's chords
+// beside the tape, 33-40 carried back.
+TEST(PathMemory, ALineOfUnknownWidthSetsNoTapeWidth) {
+  EXPECT_EQ(from_memory_after(60, 25,
+                              [](int k, LineDetection* seen) {
+                                if (k > 0) return false;
+                                moved_aside(0.025, seen);
+                                with_chords_wide(0.012, seen);
+                                seen->lines[0].width_m = 0.0;
+                                return false;  // the frame the test starts from follows
+                              }),
+            35);
+}
+
+// As ATapeWidthFirstSeenTooNarrowIsCorrected, with a full search every 10th frame that follows
+// another line (a shadow's edge and the floor: chords 45 mm wide, 80 mm beside the tape). The
+// frames of that third width count against the tape's width but do not start the count again:
+// it was never reached (every 10th frame began it anew) and every frame was carried back.
+TEST(PathMemory, ATapeWidthIsCorrectedThoughEveryTenthFrameFollowsAnotherLine) {
+  EXPECT_EQ(from_memory_after(100, 60,
+                              [](int k, LineDetection* seen) {
+                                if (k == 0) with_chords_wide(0.022, seen);
+                                if (k % 10 != 5) return false;
+                                moved_aside(0.08, seen);
+                                with_chords_wide(0.045, seen);
+                                return true;
+                              }),
+            36);
 }
 
 // The vehicle drives straight along a tape while, from 0.3 m on, the line in view is another tape
