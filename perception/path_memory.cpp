@@ -1026,16 +1026,29 @@ std::vector<bool> PathMemory::on_other_lines(const LineDetection& detection,
   std::vector<CurveModel::Prepared> curves;  // prepared once for all the points
   for (const DetectedLine& line : detection.lines) curves.push_back(line.model.prepared());
   const DetectedLine& followed = detection.lines[detection.followed];
+  // How far from the vehicle a line's evidence starts and ends.
+  auto reach_m = [](const DetectedLine& line) {
+    const double start = line.model.point_at(line.s_min_m).norm();
+    const double end = line.model.point_at(line.s_max_m).norm();
+    return std::make_pair(std::min(start, end), std::max(start, end));
+  };
+  const double margin_m = std::max(followed.width_m, 0.01);
+  // Without a junction, a line whose evidence ends before the followed line's begins is the way
+  // the vehicle came too (a corner rounder than its tape is wide, R 0.11 m for 15 mm tape, shows
+  // its legs as two lines that meet in no junction: the incoming leg remembered up to the corner
+  // was forgotten, and with it the tape under the vehicle there, agv evaluate seed 45 sequence 9).
+  std::vector<bool> came_by(detection.lines.size(), false);
+  if (!detection.junction)
+    for (size_t other = 0; other < detection.lines.size(); ++other)
+      came_by[other] = reach_m(detection.lines[other]).second <= reach_m(followed).first + margin_m;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector2d& p = points[i];
     if (std::abs(curves[detection.followed].signed_distance(p)) < 0.5 * followed.width_m) continue;
     // Nearer the vehicle than the junction: the way it came (a corner's incoming leg, a fork's
     // stem), not a way it leaves by.
-    if (detection.junction &&
-        p.norm() < detection.junction->point_m.norm() - std::max(followed.width_m, 0.01))
-      continue;
+    if (detection.junction && p.norm() < detection.junction->point_m.norm() - margin_m) continue;
     for (size_t other = 0; other < detection.lines.size() && !on_other[i]; ++other) {
-      if (static_cast<int>(other) == detection.followed) continue;
+      if (static_cast<int>(other) == detection.followed || came_by[other]) continue;
       const DetectedLine& line = detection.lines[other];
       const double s = curves[other].arc_position(p);
       on_other[i] = s >= line.s_min_m && s <= line.s_max_m &&

@@ -342,8 +342,9 @@ class PathMemory {
                                              const std::vector<bool>& overlapping,
                                              std::vector<double>* widths) const;
   // For each point (vehicle frame): whether it lies on a line in view other than the followed
-  // one, and not on that, nor nearer the vehicle than their junction: tape remembered there is
-  // the way not taken at a fork (forgotten); the way the vehicle came is kept.
+  // one, and not on that, nor nearer the vehicle than their junction (without one, not on a line
+  // that ends before the followed one begins): tape remembered there is the way not taken at a
+  // fork (forgotten); the way the vehicle came is kept.
   static std::vector<bool> on_other_lines(const LineDetection& detection,
                                           const std::vector<Eigen::Vector2d>& points);
   // The misalignment's uncertainty after travelled_m more of the odometry's kind (on wheels, the
