@@ -13,13 +13,17 @@ void TapeWidthMemory::update(std::optional<double> width_m) {
     if (++frames_without_line_ >= kForgetAfterFrames) {
       widths_m_.clear();
       last_settled_m_.reset();
+      narrowest_settled_m_.reset();
     }
     return;
   }
   frames_without_line_ = 0;
   widths_m_.push_back(*width_m);
   if (static_cast<int>(widths_m_.size()) > kKeptFrames) widths_m_.pop_front();
-  if (const std::optional<double> settled_m = settled_width_m()) last_settled_m_ = settled_m;
+  if (const std::optional<double> settled_m = settled_width_m()) {
+    last_settled_m_ = settled_m;
+    narrowest_settled_m_ = std::min(narrowest_settled_m_.value_or(*settled_m), *settled_m);
+  }
 }
 
 std::optional<double> TapeWidthMemory::settled_width_m() const {
@@ -35,7 +39,9 @@ bool TapeWidthMemory::unlike(double width_m) const {
   const std::optional<double> settled_m = settled_width_m();
   if (!settled_m || !(width_m > 0.0)) return false;
   const double tolerance_m = std::max(kTolerance * *settled_m, kToleranceFloor_m);
-  return width_m < *settled_m - tolerance_m || width_m > 2.0 * *settled_m + tolerance_m;
+  const double narrowest_m = std::min(*settled_m, narrowest_settled_m_.value_or(*settled_m));
+  const double narrow_tolerance_m = std::max(kTolerance * narrowest_m, kToleranceFloor_m);
+  return width_m < narrowest_m - narrow_tolerance_m || width_m > 2.0 * *settled_m + tolerance_m;
 }
 
 }  // namespace agv::perception

@@ -73,5 +73,21 @@ TEST(TapeWidthMemory, TheWidthLastSettledOutlastsAFewOtherWidths) {
   EXPECT_FALSE(memory.last_settled_width_m().has_value());
 }
 
+// A fork's branch leaving at a tangent: the band followed widens by 1.5 mm a frame from the
+// tape's 49 mm to 76 mm (agv evaluate seed 42 sequence 0), and the settled median with it (76
+// mm: 49 mm is 36 % narrower). The tape itself, once apart from the branch, is still like the
+// tape (narrower than the narrowest width settled by less than 30 %); a line 30 % narrower than
+// that is still unlike it. Judged against the median, the tape was refused (measured: 30 frames).
+TEST(TapeWidthMemory, TheTapeIsLikeItselfAfterABandWidenedSlowly) {
+  TapeWidthMemory memory;
+  for (int i = 0; i < 10; ++i) memory.update(0.049);
+  for (double w = 0.049; w <= 0.076; w += 0.0015) memory.update(w);
+  for (int i = 0; i < 10; ++i) memory.update(0.076);
+  ASSERT_TRUE(memory.settled_width_m().has_value());
+  EXPECT_NEAR(*memory.settled_width_m(), 0.076, 1e-9);
+  EXPECT_FALSE(memory.unlike(0.049));
+  EXPECT_TRUE(memory.unlike(0.034));  // 0.7 x 49 mm = 34.3 mm
+}
+
 }  // namespace
 }  // namespace agv::perception
