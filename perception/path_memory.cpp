@@ -1038,9 +1038,11 @@ std::vector<bool> PathMemory::on_other_lines(const LineDetection& detection,
   // its legs as two lines that meet in no junction: the incoming leg remembered up to the corner
   // was forgotten, and with it the tape under the vehicle there, agv evaluate seed 45 sequence 9).
   std::vector<bool> came_by(detection.lines.size(), false);
-  if (!detection.junction)
+  if (!detection.junction) {
+    const double followed_begins_m = reach_m(followed).first;
     for (size_t other = 0; other < detection.lines.size(); ++other)
-      came_by[other] = reach_m(detection.lines[other]).second <= reach_m(followed).first + margin_m;
+      came_by[other] = reach_m(detection.lines[other]).second <= followed_begins_m + margin_m;
+  }
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector2d& p = points[i];
     if (std::abs(curves[detection.followed].signed_distance(p)) < 0.5 * followed.width_m) continue;

@@ -12,9 +12,9 @@ namespace agv::perception {
 // at least kToleranceFloor_m: the edges' sub-pixel noise on narrow tape), or wider than two
 // tapes side by side by as much: where two pieces overlap (a fork's branch leaving, a joint, a
 // crossing) the tape reads up to twice as wide. A line of unknown width (0) is not unlike.
-// Narrower is judged against the narrowest width settled since the memory began: where a fork's
-// branch leaves at a tangent the band followed widens slowly and the median follows it (49 mm tape
-// read 76 mm wide over 0.2 m), and the tape itself, once apart, was refused for 30 frames.
+// Narrower is judged against the narrowest width settled since it was last forgotten: where a
+// fork's branch leaves at a tangent the band followed widens slowly and the median follows it (49
+// mm tape read 76 mm wide over 0.2 m), and the tape itself, once apart, was refused for 30 frames.
 // After kForgetAfterFrames frames in a row without a line the width is forgotten, so that a
 // path whose tape really changes is taken up again.
 class TapeWidthMemory {
