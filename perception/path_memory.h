@@ -24,6 +24,25 @@ struct PathMemoryOptions {
   // (a vehicle standing still).
   double keep_travel_m = 0.8;
   int keep_frames = 120;
+  // Remembered tape ahead of the vehicle farther than way_gate_m across the followed line's
+  // course, where that course carried back agrees with the course last measured under the
+  // vehicle (within way_agreement_m across and way_agreement_rad in direction, last measured
+  // within way_recent_m driven), is a way not taken (off_the_way_ahead). Over 1 deg the tape
+  // between may turn (a joint's arc); within it and 2 mm at the origin, tape between the two
+  // that runs on into the line in view lies within about 1 mm of its course.
+  double way_gate_m = 0.005;
+  double way_agreement_m = 0.002;
+  double way_agreement_rad = 0.0175;
+  double way_recent_m = 0.03;
+  // Going straight on, tape remembered on the side the line in view turns away from by more than
+  // this curvature is kept (the line in view may be the branch).
+  double way_straight_turn_1_m = 0.2;
+  // The branch's stretch within way_gate_m of the way (its first 7 cm at R 0.5 m, which the fit
+  // at the origin followed, 6 frames up to 3.6 mm / 6.9 deg off), found from where the branch
+  // leaves the way, worked out from its next way_stub_fit_m, is forgotten too where more than
+  // way_stub_min_m off.
+  double way_stub_fit_m = 0.04;
+  double way_stub_min_m = 0.0001;
   // Each frame's evidence point is fused into the remembered point nearest to it within fuse_m
   // (their mean, each observation counting alike up to fuse_max_observations, after which newer
   // ones count for more), or added where none is that near: the memory holds each stretch of
@@ -347,6 +366,12 @@ class PathMemory {
   // fork (forgotten); the way the vehicle came is kept.
   static std::vector<bool> on_other_lines(const LineDetection& detection,
                                           const std::vector<Eigen::Vector2d>& points);
+  // For each point (vehicle frame): whether it lies between the origin and the followed line's
+  // far end but off that line's course, where the course last measured under the vehicle runs on
+  // into the followed line carried back (way_agreement_m, way_agreement_rad): a way not taken
+  // remembered ahead of the vehicle (forgotten), also where the detection shows no other line.
+  std::vector<bool> off_the_way_ahead(const LineDetection& detection,
+                                      const std::vector<Eigen::Vector2d>& points) const;
   // The misalignment's uncertainty after travelled_m more of the odometry's kind (on wheels, the
   // rotation's also growing with the yaw drift estimate's error; update takes the estimate's own
   // rotation out of vehicle_).

@@ -1812,5 +1812,114 @@ TEST(PathMemory, WhereAForksLegsOverlapUnseenApartTheChosenLegIsRemembered) {
   EXPECT_TRUE(none_beyond(remembered_after_an_overlap(Overlap::kBlotchyLeft, BranchChoice::kLeft)));
 }
 
+// A straight tape and a branch leaving it 0.45 m along to the right (R 0.5 m, tangentially),
+// driven along the straight tape at 10 mm a frame (exact odometry, on the tape) to 0.70 m, the
+// line followed in each frame `seen(s, vehicle)` (empty: no line), the way chosen `choice`: the
+// worst errors at the origin from `from_m` on (frames not carried back), and how many.
+struct ForkDrive {
+  int read_from_memory = 0;
+  double worst_e_d_m = 0.0, worst_e_theta_rad = 0.0;
+};
+
+const control::Path& straight_tape() {
+  static const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
+  return path;
+}
+
+const control::Path& branch_right_at_045() {
+  static const control::Path path =
+      control::Path::starting_at({0.0, 0.0, 0.0}).add_line(0.45).add_arc(0.5, deg_to_rad(-90.0));
+  return path;
+}
+
+template <typename Seen>
+ForkDrive drive_by_a_branch(const PathMemoryOptions& options, BranchChoice choice, double from_m,
+                            Seen seen) {
+  PathMemory memory(options);
+  ForkDrive r;
+  for (int k = 0; k <= 70; ++k) {
+    const double s = 0.01 * k;
+    const Pose2 vehicle{s, 0.0, 0.0};
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = 0.005;  // carried back across the fork: not to be used for the errors
+    LineDetection detection = seen(s, vehicle);
+    if (detection.chords.empty()) continue;
+    detection.branch = choice;
+    // The evidence's extent along the line's model: its chords' centres.
+    DetectedLine& line = detection.lines[0];
+    line.s_min_m = std::numeric_limits<double>::infinity();
+    line.s_max_m = -line.s_min_m;
+    for (const Chord& chord : detection.chords) {
+      const double along_m = line.model.arc_position(chord.centre());
+      line.s_min_m = std::min(line.s_min_m, along_m);
+      line.s_max_m = std::max(line.s_max_m, along_m);
+    }
+    const LineMeasurement m = memory.update(in_view, detection, vehicle);
+    if (s < from_m - 0.005 || m.extrapolated) continue;
+    ++r.read_from_memory;
+    keep_worst(m, control::TrackingError{}, &r.worst_e_d_m, &r.worst_e_theta_rad);
+  }
+  return r;
+}
+
+// A fork of wide tape as the full search may see it: while the vehicle drives from 0.20 to
+// 0.26 m, the line followed is the branch (the legs merged into one band ahead, the branch taken
+// for the band); from then on the straight tape, seen only where the legs have parted, past 0.62
+// m (a hole in the memory where the band was). The memory then holds the branch ahead of the
+// vehicle and nothing of the straight tape between 0.45 and 0.62 m.
+bool outside_the_merged_band(double s_m) { return s_m < 0.45 || s_m > 0.62; }
+
+ForkDrive drive_past_a_branch_followed_for_a_while(const PathMemoryOptions& options) {
+  return drive_by_a_branch(options, BranchChoice::kLeft, 0.40, [](double s, const Pose2& vehicle) {
+    if (s >= 0.195 && s <= 0.265) return seen_from(branch_right_at_045(), vehicle, s);
+    return seen_from(straight_tape(), vehicle, s, nullptr, 0.004, outside_the_merged_band);
+  });
+}
+
+// Once the straight tape is followed again, it carried back meets the tape measured under the
+// vehicle: the branch remembered ahead, off its course, is a way not taken and forgotten, also
+// its first 7 cm within way_gate_m of the way (the fit at the origin followed them: 6 frames up
+// to 3.6 mm / 6.9 deg off), and the errors come from the straight tape on either side of the
+// hole (exact evidence: within 0.1 mm / 0.1 deg). With the branch kept (way_gate_m 1 m), the
+// fit at the origin ran into it.
+TEST(PathMemory, ABranchFollowedBeforeTheLegsPartedIsForgottenOnceTheWayTakenIsSeen) {
+  const ForkDrive r = drive_past_a_branch_followed_for_a_while({});
+  EXPECT_GE(r.read_from_memory, 25);
+  EXPECT_LT(r.worst_e_d_m, 1e-4);
+  EXPECT_LT(rad_to_deg(r.worst_e_theta_rad), 0.1);
+  PathMemoryOptions kept;
+  kept.way_gate_m = 1.0;
+  EXPECT_GT(drive_past_a_branch_followed_for_a_while(kept).worst_e_d_m, 0.002);
+}
+
+// The other way round: going straight on, the line in view is the branch from 0.25 m on (its
+// model turning right, R 2 m, through the origin: carried back it meets the course under the
+// vehicle), the straight tape remembered ahead up to 0.68 m. That tape lies on the side the
+// line in view turns away from and is kept: passing the fork (0.40-0.60 m), the errors come from
+// it, within 1.5 mm / 1 deg (the branch's evidence shares the window: 0.9 mm / 0.5 deg; 0.9 mm
+// / 1.3 deg without forgetting any way not taken). Forgotten on either side
+// (way_straight_turn_1_m infinite), the branch was read: 22 mm / 17 deg off.
+ForkDrive drive_on_a_branch_followed_instead(const PathMemoryOptions& options) {
+  return drive_by_a_branch(options, BranchChoice::kStraight, 0.40,
+                           [](double s, const Pose2& vehicle) {
+                             if (s > 0.605) return LineDetection{};
+                             if (s < 0.245) return seen_from(straight_tape(), vehicle, s);
+                             LineDetection d = seen_from(branch_right_at_045(), vehicle, s);
+                             d.lines[0].model = CurveModel{0.0, 0.0, -0.5};
+                             return d;
+                           });
+}
+
+TEST(PathMemory, GoingStraightOnTheTapeBesideABranchFollowedIsKept) {
+  const ForkDrive r = drive_on_a_branch_followed_instead({});
+  EXPECT_GE(r.read_from_memory, 15);
+  EXPECT_LT(r.worst_e_d_m, 0.0015);
+  EXPECT_LT(rad_to_deg(r.worst_e_theta_rad), 1.0);
+  PathMemoryOptions either_side;
+  either_side.way_straight_turn_1_m = std::numeric_limits<double>::infinity();
+  EXPECT_GT(drive_on_a_branch_followed_instead(either_side).worst_e_d_m, 0.005);
+}
+
 }  // namespace
 }  // namespace agv::perception
