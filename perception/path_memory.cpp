@@ -1125,11 +1125,17 @@ std::vector<bool> PathMemory::off_the_way_ahead(const LineDetection& detection,
   const bool right_not_taken =
       detection.branch == BranchChoice::kLeft ||
       (detection.branch == BranchChoice::kStraight && way.curvature_1_m <= away_1_m);
-  std::vector<double> along(points.size()), across(points.size());  // across: positive on the left
+  // Across the way (positive on the left); along it only where some point lies past the gate
+  // (most frames none: an arc position is an arc tangent).
+  std::vector<double> across(points.size());
+  bool any_past_gate = false;
   for (size_t i = 0; i < points.size(); ++i) {
-    along[i] = course.arc_position(points[i]);
     across[i] = course.signed_distance(points[i]);
+    any_past_gate = any_past_gate || std::abs(across[i]) > options_.way_gate_m;
   }
+  if (!any_past_gate) return off_way;
+  std::vector<double> along(points.size());
+  for (size_t i = 0; i < points.size(); ++i) along[i] = course.arc_position(points[i]);
   for (const double side : {1.0, -1.0}) {
     if (!(side > 0.0 ? left_not_taken : right_not_taken)) continue;
     // The branch's points past the gate; then where it left the way.
