@@ -367,9 +367,11 @@ class PathMemory {
   static std::vector<bool> on_other_lines(const LineDetection& detection,
                                           const std::vector<Eigen::Vector2d>& points);
   // For each point (vehicle frame): whether it lies between the origin and the followed line's
-  // far end but off that line's course, where the course last measured under the vehicle runs on
-  // into the followed line carried back (way_agreement_m, way_agreement_rad): a way not taken
-  // remembered ahead of the vehicle (forgotten), also where the detection shows no other line.
+  // far end but off that line's course, on the side of the way not taken (detection.branch),
+  // where the course last measured under the vehicle runs on into the followed line carried back
+  // (way_agreement_m, way_agreement_rad): a way not taken remembered ahead of the vehicle
+  // (forgotten), also where the detection shows no other line; with the branch's stretch inside
+  // way_gate_m from where it leaves the way at a tangent.
   std::vector<bool> off_the_way_ahead(const LineDetection& detection,
                                       const std::vector<Eigen::Vector2d>& points) const;
   // The misalignment's uncertainty after travelled_m more of the odometry's kind (on wheels, the
