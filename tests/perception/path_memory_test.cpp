@@ -1815,7 +1815,7 @@ TEST(PathMemory, WhereAForksLegsOverlapUnseenApartTheChosenLegIsRemembered) {
 // A straight tape and a branch leaving it 0.45 m along to the right (R 0.5 m, tangentially),
 // driven along the straight tape at 10 mm a frame (exact odometry, on the tape) to 0.70 m, the
 // line followed in each frame `seen(s, vehicle)` (empty: no line), the way chosen `choice`: the
-// worst errors at the origin from `from_m` on (frames not carried back), and how many.
+// worst errors at the origin from 0.40 m on (frames not carried back), and how many.
 struct ForkDrive {
   int read_from_memory = 0;
   double worst_e_d_m = 0.0, worst_e_theta_rad = 0.0;
@@ -1833,8 +1833,7 @@ const control::Path& branch_right_at_045() {
 }
 
 template <typename Seen>
-ForkDrive drive_by_a_branch(const PathMemoryOptions& options, BranchChoice choice, double from_m,
-                            Seen seen) {
+ForkDrive drive_by_a_branch(const PathMemoryOptions& options, BranchChoice choice, Seen seen) {
   PathMemory memory(options);
   ForkDrive r;
   for (int k = 0; k <= 70; ++k) {
@@ -1856,7 +1855,7 @@ ForkDrive drive_by_a_branch(const PathMemoryOptions& options, BranchChoice choic
       line.s_max_m = std::max(line.s_max_m, along_m);
     }
     const LineMeasurement m = memory.update(in_view, detection, vehicle);
-    if (s < from_m - 0.005 || m.extrapolated) continue;
+    if (s < 0.395 || m.extrapolated) continue;
     ++r.read_from_memory;
     keep_worst(m, control::TrackingError{}, &r.worst_e_d_m, &r.worst_e_theta_rad);
   }
@@ -1871,7 +1870,7 @@ ForkDrive drive_by_a_branch(const PathMemoryOptions& options, BranchChoice choic
 bool outside_the_merged_band(double s_m) { return s_m < 0.45 || s_m > 0.62; }
 
 ForkDrive drive_past_a_branch_followed_for_a_while(const PathMemoryOptions& options) {
-  return drive_by_a_branch(options, BranchChoice::kLeft, 0.40, [](double s, const Pose2& vehicle) {
+  return drive_by_a_branch(options, BranchChoice::kLeft, [](double s, const Pose2& vehicle) {
     if (s >= 0.195 && s <= 0.265) return seen_from(branch_right_at_045(), vehicle, s);
     return seen_from(straight_tape(), vehicle, s, nullptr, 0.004, outside_the_merged_band);
   });
@@ -1901,14 +1900,13 @@ TEST(PathMemory, ABranchFollowedBeforeTheLegsPartedIsForgottenOnceTheWayTakenIsS
 // / 1.3 deg without forgetting any way not taken). Forgotten on either side
 // (way_straight_turn_1_m infinite), the branch was read: 22 mm / 17 deg off.
 ForkDrive drive_on_a_branch_followed_instead(const PathMemoryOptions& options) {
-  return drive_by_a_branch(options, BranchChoice::kStraight, 0.40,
-                           [](double s, const Pose2& vehicle) {
-                             if (s > 0.605) return LineDetection{};
-                             if (s < 0.245) return seen_from(straight_tape(), vehicle, s);
-                             LineDetection d = seen_from(branch_right_at_045(), vehicle, s);
-                             d.lines[0].model = CurveModel{0.0, 0.0, -0.5};
-                             return d;
-                           });
+  return drive_by_a_branch(options, BranchChoice::kStraight, [](double s, const Pose2& vehicle) {
+    if (s > 0.605) return LineDetection{};
+    if (s < 0.245) return seen_from(straight_tape(), vehicle, s);
+    LineDetection d = seen_from(branch_right_at_045(), vehicle, s);
+    d.lines[0].model = CurveModel{0.0, 0.0, -0.5};
+    return d;
+  });
 }
 
 TEST(PathMemory, GoingStraightOnTheTapeBesideABranchFollowedIsKept) {
