@@ -317,17 +317,30 @@ LineMeasurement LineEstimator::search_on_axis(const cv::Mat& frame, const cv::Ma
   // only next to its edges, one edge a region (where they give a line, it is a strip along one
   // edge): its plateau, the contrast itself, is the region then. Only lines as wide as the
   // ladder's widest bar are taken from it, where the bars give none, or, before the tape's width
-  // has settled, where theirs is such a strip (below). Once it has settled a strip is unlike the
-  // tape and dropped; a line the bars give then is the tape, and a plateau there is more often
-  // two pieces of it overlapping (a fork's legs, a corner's) than one tape.
+  // has settled, where theirs is such a strip or unlike the width last settled (below). Once it
+  // has settled a strip is unlike the tape and dropped; a line the bars give then is the tape,
+  // and a plateau there is more often two pieces of it overlapping (a fork's legs, a corner's)
+  // than one tape.
   if (plateau_min_width_px_ <= 0.0) return m;
   if (m.line_found && history && history->width.settled_width_m()) return m;
   LineDetection plateau;
   const LineMeasurement wide = search_with_bars(frame, small, axis, {}, stamp_s, &plateau, history);
   if (!wide.line_found) return m;  // the bars' reason
-  if (m.line_found &&
-      !strip_along(detection->lines[detection->followed], plateau.lines[plateau.followed]))
-    return m;
+  if (m.line_found) {
+    const DetectedLine& bars_line = detection->lines[detection->followed];
+    const DetectedLine& plateau_line = plateau.lines[plateau.followed];
+    // ... or where the width settled before (lines of other widths since have unsettled it: a
+    // fork's overlap) and theirs is unlike it while the plateau's is that width: a band between a
+    // hard shadow's edge across wide tape and a tape edge (agv evaluate seed 18, sequence 4: 250
+    // mm / 60 deg off), not two pieces of the tape overlapping (seed 28, sequence 11: a plateau
+    // 147 mm wide at a fork, against 80 mm settled).
+    const std::optional<double> last_m =
+        history ? history->width.last_settled_width_m() : std::nullopt;
+    const bool unlike_the_tape =
+        last_m && history->width.unlike_last_settled(bars_line.width_m) &&
+        std::abs(plateau_line.width_m - *last_m) <= TapeWidthMemory::kTolerance * *last_m;
+    if (!strip_along(bars_line, plateau_line) && !unlike_the_tape) return m;
+  }
   *detection = std::move(plateau);
   return wide;
 }

@@ -36,7 +36,14 @@ std::optional<double> TapeWidthMemory::settled_width_m() const {
 }
 
 bool TapeWidthMemory::unlike(double width_m) const {
-  const std::optional<double> settled_m = settled_width_m();
+  return unlike_width(width_m, settled_width_m());
+}
+
+bool TapeWidthMemory::unlike_last_settled(double width_m) const {
+  return unlike_width(width_m, last_settled_m_);
+}
+
+bool TapeWidthMemory::unlike_width(double width_m, std::optional<double> settled_m) const {
   if (!settled_m || !(width_m > 0.0)) return false;
   const double tolerance_m = std::max(kTolerance * *settled_m, kToleranceFloor_m);
   const double narrowest_m = std::min(*settled_m, narrowest_settled_m_.value_or(*settled_m));

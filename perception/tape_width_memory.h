@@ -35,12 +35,16 @@ class TapeWidthMemory {
   std::optional<double> last_settled_width_m() const { return last_settled_m_; }
   // Whether a line of width_m is unlike the settled width (false until it settles).
   bool unlike(double width_m) const;
+  // The same against the width as it last settled (false until one settles).
+  bool unlike_last_settled(double width_m) const;
 
  private:
   std::deque<double> widths_m_;  // the last kKeptFrames lines' widths, oldest first
   int frames_without_line_ = 0;
   std::optional<double> last_settled_m_;
   std::optional<double> narrowest_settled_m_;
+  // Whether a line of width_m is unlike settled_m (false without one).
+  bool unlike_width(double width_m, std::optional<double> settled_m) const;
 };
 
 }  // namespace agv::perception

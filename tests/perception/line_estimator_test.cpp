@@ -269,6 +269,51 @@ TEST(LineEstimator, TapeFillingMoreThanHalfTheViewIsFoundByItsPlateau) {
   expect_width_measured(0.120, 0.15, 0.01, 4.0);
 }
 
+// White tape 97 mm wide on a dark floor seen from 0.13 m up (half the view) with the vehicle's
+// hard shadow across it: the bars answer to the band between the shadow's edge and a tape edge,
+// 40-50 mm wide, not along the tape. Where the tape's width settled before (97 mm) and lines of
+// other widths since have unsettled it (a fork's overlap), such a band is unlike the tape and the
+// plateau of the width last settled is taken. Bars: a line within 2 mm and 1 deg at the origin
+// and of the tape's width within 5 mm (the band followed was 260 mm off, 53 deg, 41 mm wide).
+// Left: with the shadow's edge in 10 other places (directions 0.3-2.8 rad either way, offsets
+// 0-0.4) the tape is still missed, or a band or a line of one edge per chord followed, settled
+// width or not (agv evaluate seed 18, sequence 4).
+TEST(LineEstimator, AShadowsEdgeAcrossWideTapeIsNotTakenForTheTape) {
+  const CameraModel camera(testing::default_intrinsics(),
+                           testing::straight_down_mount(0.30, 0.0, 0.13));
+  pipeline::Scene scene = testing::straight_tape_scene();
+  scene.tapes[0].width_m = 0.097;
+  scene.tapes[0].color_bgr = {225.0, 228.0, 230.0};
+  scene.floor.color_bgr = {60.0, 62.0, 64.0};
+  scene.effects.shadow_darkness = 0.45;
+  scene.effects.shadow_softness = 0.01;
+  FollowHistory history;
+  for (int i = 0; i < 5; ++i) history.width.update(0.097);
+  for (double w : {0.103, 0.109, 0.116, 0.123, 0.130, 0.137}) history.width.update(w);
+  for (int i = 0; i < 9; ++i) history.width.update(0.097);
+  ASSERT_FALSE(history.width.settled_width_m().has_value());
+  LineEstimator::Options options = testing::hinted(scene);
+  options.tape.width_m = 0.0;
+  const LineEstimator estimator(camera, options);
+  const struct {
+    double direction_rad, offset;
+    Pose2 pose;
+    int frame;  // the render's noise
+  } cases[] = {{2.2, 0.0, {0.0, 0.0, deg_to_rad(1.0)}, 0},
+               {2.2, 0.0, {0.4, 0.001, deg_to_rad(-0.5)}, 4}};
+  for (const auto& c : cases) {
+    scene.effects.shadow_direction_rad = c.direction_rad;
+    scene.effects.shadow_offset = c.offset;
+    const pipeline::FrameRenderer renderer(camera, scene);
+    const LineMeasurement m = estimator.estimate(renderer.render(c.pose, {0.3, 0.0, 0.0}, c.frame),
+                                                 0.0, nullptr, &history);
+    ASSERT_TRUE(m.line_found) << c.direction_rad;
+    EXPECT_NEAR(m.e_d_m, c.pose.y_m, 0.002) << c.direction_rad;
+    EXPECT_NEAR(rad_to_deg(m.e_theta_rad), rad_to_deg(c.pose.yaw_rad), 1.0) << c.direction_rad;
+    EXPECT_NEAR(m.tape_width_m, 0.097, 0.005) << c.direction_rad;
+  }
+}
+
 // A line running into an arc of R 0.3 m in the middle of the view (0.30 m ahead), the vehicle
 // on the line: the errors at the origin are the line's, carried back (the arc starts ahead of
 // the vehicle), not those of one arc fitted across the joint. Bars: within 1 mm and 0.5 deg on

@@ -73,6 +73,23 @@ TEST(TapeWidthMemory, TheWidthLastSettledOutlastsAFewOtherWidths) {
   EXPECT_FALSE(memory.last_settled_width_m().has_value());
 }
 
+// Unsettled by other widths (a fork's overlap, 103-137 mm, after 97 mm tape), a line is judged
+// against the width last settled on request: a hard shadow's edge across the tape gives a band
+// 29 mm wide, unlike it; the tape itself and the overlap are not (the same bounds as above).
+TEST(TapeWidthMemory, UnlikeTheWidthLastSettledWhileUnsettled) {
+  TapeWidthMemory memory;
+  for (int i = 0; i < 5; ++i) memory.update(0.097);
+  for (double w : {0.103, 0.109, 0.116, 0.123, 0.130, 0.137}) memory.update(w);
+  for (int i = 0; i < 9; ++i) memory.update(0.097);
+  ASSERT_FALSE(memory.settled_width_m().has_value());
+  EXPECT_FALSE(memory.unlike(0.029));  // nothing is unlike an unsettled width
+  EXPECT_TRUE(memory.unlike_last_settled(0.029));
+  EXPECT_TRUE(memory.unlike_last_settled(0.067));  // 30 % of 97 mm narrower: 67.9 mm
+  EXPECT_FALSE(memory.unlike_last_settled(0.069));
+  EXPECT_FALSE(memory.unlike_last_settled(0.137));
+  EXPECT_FALSE(memory.unlike_last_settled(0.0));  // a width of 0 (unknown) is never unlike
+}
+
 // A fork's branch leaving at a tangent: the band followed widens by 1.5 mm a frame from the
 // tape's 49 mm to 76 mm (agv evaluate seed 42 sequence 0), and the settled median with it (76
 // mm: 49 mm is 36 % narrower). The tape itself, once apart from the branch, is still like the
