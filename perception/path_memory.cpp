@@ -339,6 +339,7 @@ void PathMemory::reset() {
   corner_passed_at_m_.reset();
   recent_headings_.clear();
   last_course_.reset();
+  last_reading_.reset();
   last_corner_course_.reset();
   read_off_corner_ = false;
 }
@@ -1412,6 +1413,24 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
 
 LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
                                    const std::optional<Pose2>& odometry, OdometryKind kind) {
+  reading_held_ = false;
+  const LineMeasurement m = read(in_view, detection, odometry, kind);
+  if (!odometry || !m.line_found) {
+    if (!odometry) last_reading_.reset();
+  } else if (!reading_held_) {
+    // Confirmed where it agrees with the reading before, carried forward.
+    last_reading_confirmed_ =
+        last_reading_ && odometer_m_ - last_reading_->odometer_m <= options_.hold_reading_m &&
+        std::abs(m.e_d_m - course_now(*last_reading_).e_d_m) <= options_.hold_course_offset_m;
+    const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+    last_reading_ = Course{vehicle_.transform(model.foot_point()), vehicle_.yaw_rad - m.e_theta_rad,
+                           m.curvature_1_m, odometer_m_};
+  }
+  return m;
+}
+
+LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetection& detection,
+                                 const std::optional<Pose2>& odometry, OdometryKind kind) {
   LineMeasurement carried_back = in_view;
   carried_back.extrapolated = in_view.line_found;
   // From one frame's from_tape_ahead to the next's only.
@@ -1489,6 +1508,10 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   tape_heading_rad_.reset();
   if (std::optional<LineMeasurement> forward = carried_forward(carried_back)) return *forward;
   if (std::optional<LineMeasurement> held = course_held(carried_back)) return *held;
+  if (std::optional<LineMeasurement> held = reading_held(carried_back)) {
+    reading_held_ = true;
+    return *held;
+  }
   return carried_back;
 }
 
@@ -1532,6 +1555,18 @@ std::optional<LineMeasurement> PathMemory::course_held(const LineMeasurement& ca
       std::abs(carried_back.e_d_m - last_course_now().e_d_m) <= options_.hold_course_offset_m)
     return std::nullopt;
   return with_course(carried_back);
+}
+
+std::optional<LineMeasurement> PathMemory::reading_held(const LineMeasurement& carried_back) const {
+  if (!last_reading_ || !last_reading_confirmed_ ||
+      odometer_m_ - last_reading_->odometer_m > options_.hold_reading_m)
+    return std::nullopt;
+  const CurveModel reading = course_now(*last_reading_);
+  if (std::abs(carried_back.e_d_m - reading.e_d_m) <= options_.hold_course_offset_m)
+    return std::nullopt;
+  LineMeasurement held = with_model(carried_back, reading);
+  held.extrapolated = true;
+  return held;
 }
 
 LineMeasurement PathMemory::with_course(const LineMeasurement& m) const {
