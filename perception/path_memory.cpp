@@ -1414,14 +1414,10 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
 LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
                                    const std::optional<Pose2>& odometry, OdometryKind kind) {
   reading_held_ = false;
-  const LineMeasurement m = read(in_view, detection, odometry, kind);
-  if (!odometry || !m.line_found) {
-    if (!odometry) last_reading_.reset();
-  } else if (!reading_held_) {
-    // Confirmed where it agrees with the reading before, carried forward.
-    last_reading_confirmed_ =
-        last_reading_ && odometer_m_ - last_reading_->odometer_m <= options_.hold_reading_m &&
-        std::abs(m.e_d_m - course_now(*last_reading_).e_d_m) <= options_.hold_course_offset_m;
+  const LineMeasurement m = read(in_view, detection, odometry, kind);  // no odometry: reset
+  if (odometry && m.line_found && !reading_held_) {
+    const std::optional<double> offset_m = offset_from_recent_reading_m(m);
+    last_reading_confirmed_ = offset_m && *offset_m <= options_.hold_course_offset_m;
     const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
     last_reading_ = Course{vehicle_.transform(model.foot_point()), vehicle_.yaw_rad - m.e_theta_rad,
                            m.curvature_1_m, odometer_m_};
@@ -1557,14 +1553,17 @@ std::optional<LineMeasurement> PathMemory::course_held(const LineMeasurement& ca
   return with_course(carried_back);
 }
 
+std::optional<double> PathMemory::offset_from_recent_reading_m(const LineMeasurement& m) const {
+  if (!last_reading_ || odometer_m_ - last_reading_->odometer_m > options_.hold_reading_m)
+    return std::nullopt;
+  return std::abs(m.e_d_m - course_now(*last_reading_).e_d_m);
+}
+
 std::optional<LineMeasurement> PathMemory::reading_held(const LineMeasurement& carried_back) const {
-  if (!last_reading_ || !last_reading_confirmed_ ||
-      odometer_m_ - last_reading_->odometer_m > options_.hold_reading_m)
+  const std::optional<double> offset_m = offset_from_recent_reading_m(carried_back);
+  if (!last_reading_confirmed_ || !offset_m || *offset_m <= options_.hold_course_offset_m)
     return std::nullopt;
-  const CurveModel reading = course_now(*last_reading_);
-  if (std::abs(carried_back.e_d_m - reading.e_d_m) <= options_.hold_course_offset_m)
-    return std::nullopt;
-  LineMeasurement held = with_model(carried_back, reading);
+  LineMeasurement held = with_model(carried_back, course_now(*last_reading_));
   held.extrapolated = true;
   return held;
 }

@@ -471,6 +471,9 @@ class PathMemory {
   // `carried_back` with its errors from the last reading carried forward, flagged extrapolated,
   // where options_.hold_reading_m says so; else nothing.
   std::optional<LineMeasurement> reading_held(const LineMeasurement& carried_back) const;
+  // How far m lies across from last_reading_ carried forward, where that was taken at most
+  // hold_reading_m ago; else nothing.
+  std::optional<double> offset_from_recent_reading_m(const LineMeasurement& m) const;
   // update's work; update records its reading (last_reading_).
   LineMeasurement read(const LineMeasurement& in_view, const LineDetection& detection,
                        const std::optional<Pose2>& odometry, OdometryKind kind);
