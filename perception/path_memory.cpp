@@ -355,26 +355,37 @@ std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
 void PathMemory::reset_misalignment() {
   misalignment_cov_.setZero();
   misalignment_cov_(3, 3) = options_.yaw_drift_sigma_rad_per_m * options_.yaw_drift_sigma_rad_per_m;
+  misalignment_cov_(4, 4) = options_.distance_error_sigma * options_.distance_error_sigma;
   yaw_drift_rad_per_m_ = 0.0;
+  distance_error_ = 0.0;
 }
 
-void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
+void PathMemory::grow_misalignment(double travelled_m, const Eigen::Vector2d& moved_m,
+                                   OdometryKind kind) {
   // The misalignment's uncertainty grows by what the odometry can have got wrong since the last
   // frame: a constant by kind of odometry and a part per metre driven (from 0 when nothing is
   // remembered: this frame's evidence is placed where the vehicle is; the yaw drift estimate
   // stays).
   if (points_.empty()) {
-    misalignment_cov_.topLeftCorner<3, 4>().setZero();
-    misalignment_cov_.bottomLeftCorner<1, 3>().setZero();
+    misalignment_cov_.topRows<3>().setZero();
+    misalignment_cov_.leftCols<3>().setZero();
   }
   // On wheels the rotation grows by the yaw drift estimate's error times the distance (x_r +=
-  // d x_b; update takes the estimate's own rotation out).
-  if (kind == OdometryKind::wheels && options_.yaw_drift_sigma_rad_per_m > 0.0) {
-    Eigen::Matrix4d grow = Eigen::Matrix4d::Identity();
-    grow(0, 3) = travelled_m;
+  // d x_b) and the shift by the distance error estimate's times the motion (x_t += m x_s); update
+  // takes the estimates' own rotation and shift out.
+  if (kind == OdometryKind::wheels) {
+    Misalignment grow = Misalignment::Identity();
+    if (options_.yaw_drift_sigma_rad_per_m > 0.0) {
+      grow(0, 3) = travelled_m;
+      misalignment_cov_(3, 3) += options_.yaw_drift_walk_rad_per_m_per_sqrt_m *
+                                 options_.yaw_drift_walk_rad_per_m_per_sqrt_m * travelled_m;
+    }
+    if (options_.distance_error_sigma > 0.0) {
+      grow.block<2, 1>(1, 4) = moved_m;
+      misalignment_cov_(4, 4) += options_.distance_error_walk_per_sqrt_m *
+                                 options_.distance_error_walk_per_sqrt_m * travelled_m;
+    }
     misalignment_cov_ = grow * misalignment_cov_ * grow.transpose();
-    misalignment_cov_(3, 3) += options_.yaw_drift_walk_rad_per_m_per_sqrt_m *
-                               options_.yaw_drift_walk_rad_per_m_per_sqrt_m * travelled_m;
   }
   const PathMemoryOptions::Prior& prior = kind == OdometryKind::wheels   ? options_.wheels_prior
                                           : kind == OdometryKind::frames ? options_.frames_prior
@@ -382,8 +393,9 @@ void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
   // At least a micrometre (and a microradian): a vehicle standing still on wheels (no constant
   // shift) leaves its memory where it is, and the prior's information finite.
   constexpr double kMinSigma = 1e-6;
-  const double sigma_t =
-      std::max(kMinSigma, prior.shift_m + options_.prior_shift_per_m * travelled_m);
+  const double shift_per_m =
+      kind == OdometryKind::wheels ? options_.wheels_shift_per_m : options_.prior_shift_per_m;
+  const double sigma_t = std::max(kMinSigma, prior.shift_m + shift_per_m * travelled_m);
   const double sigma_r =
       std::max(kMinSigma, prior.turn_rad + options_.prior_turn_rad_per_m * travelled_m);
   misalignment_cov_.diagonal().head<3>() +=
@@ -402,7 +414,7 @@ void PathMemory::grow_misalignment(double travelled_m, OdometryKind kind) {
 }
 
 void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const CurveModel& line,
-                             std::vector<Eigen::Vector2d>* in_vehicle) {
+                             double travelled_m, std::vector<Eigen::Vector2d>* in_vehicle) {
   // d_i + J_i delta = 0 for the remembered points that lie on the tape in view, d_i the distance
   // from the tape's local course through the nearest evidence points (the evidence itself, bent
   // by the line in view's curvature: not the curve fitted to all of it, which may not hold across
@@ -437,20 +449,23 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   // memory may be out of line: along a straight tape the points say nothing of the shift along
   // it, and the prior keeps it where the odometry put it. Then twice more with Cauchy weights on
   // the residuals the correction leaves (registration_residual_scale_m).
-  // With the yaw drift (a fourth state the points see only through its past coupling to the
-  // rotation): the same in the 4 x 4 information form. Without it, the fourth state is held at
-  // 0 (its prior information 1, no coupling).
+  // With the odometry's yaw drift and distance error (states the points see only through their
+  // past coupling to the rotation and shift): the same in the 5 x 5 information form. A state
+  // left out (its prior 0) is held at 0 (its prior information 1, no coupling).
   const double point_weight = 1.0 / (options_.point_sigma_m * options_.point_sigma_m);
   const double scale_m = options_.registration_residual_scale_m;
-  const bool with_drift = options_.yaw_drift_sigma_rad_per_m > 0.0;
-  Eigen::Matrix4d prior_information = Eigen::Matrix4d::Identity();
-  if (with_drift) {
-    prior_information = misalignment_cov_.inverse();
-  } else {
-    prior_information.topLeftCorner<3, 3>() = misalignment_cov_.topLeftCorner<3, 3>().inverse();
+  const bool held[2] = {!(options_.yaw_drift_sigma_rad_per_m > 0.0),
+                        !(options_.distance_error_sigma > 0.0)};
+  Misalignment prior_cov = misalignment_cov_;
+  for (int k = 3; k < 5; ++k) {
+    if (!held[k - 3]) continue;
+    prior_cov.row(k).setZero();
+    prior_cov.col(k).setZero();
+    prior_cov(k, k) = 1.0;
   }
-  Eigen::Matrix4d information = prior_information;
-  Eigen::Vector4d delta = Eigen::Vector4d::Zero();
+  const Misalignment prior_information = prior_cov.ldlt().solve(Misalignment::Identity());
+  Misalignment information = prior_information;
+  Eigen::Matrix<double, 5, 1> delta = Eigen::Matrix<double, 5, 1>::Zero();
   for (int round = 0; round < (scale_m > 0.0 ? 3 : 1); ++round) {
     Eigen::Matrix3d jtj = Eigen::Matrix3d::Zero();
     Eigen::Vector3d jtd = Eigen::Vector3d::Zero();
@@ -470,14 +485,15 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
     }
     information = prior_information;
     information.topLeftCorner<3, 3>() += point_weight * jtj;
-    Eigen::Vector4d rhs = Eigen::Vector4d::Zero();
+    Eigen::Matrix<double, 5, 1> rhs = Eigen::Matrix<double, 5, 1>::Zero();
     rhs.head<3>() = -point_weight * jtd;
     delta = information.ldlt().solve(rhs);
   }
-  misalignment_cov_ = information.inverse();
-  if (!with_drift) {
-    misalignment_cov_.row(3).setZero();
-    misalignment_cov_.col(3).setZero();
+  misalignment_cov_ = information.ldlt().solve(Misalignment::Identity());
+  for (int k = 3; k < 5; ++k) {
+    if (!held[k - 3]) continue;
+    misalignment_cov_.row(k).setZero();
+    misalignment_cov_.col(k).setZero();
   }
   if (std::abs(delta[0]) > options_.max_correction_rad ||
       delta.segment<2>(1).norm() > options_.max_correction_m) {
@@ -487,6 +503,10 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
     return;
   }
   yaw_drift_rad_per_m_ += delta[3];
+  // The distance error at most distance_error_rate_per_m further per metre driven since the last
+  // frame (what one registration says of it may be a corner's bias, or another tape's).
+  const double most = options_.distance_error_rate_per_m * travelled_m;
+  distance_error_ += std::clamp(delta[4], -most, most);
   const Pose2 move{delta[1], delta[2], delta[0]};
   const Pose2::Map moved = move.map();
   for (Eigen::Vector2d& p : *in_vehicle) p = moved(p);
@@ -1435,18 +1455,24 @@ LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetec
     reset();
     return carried_back;
   }
-  const double travelled_m =
-      last_odometry_ ? last_odometry_->inverse().compose(*odometry).translation().norm() : 0.0;
+  // The odometry's step, and the vehicle's move in its frame now (from where it was to here).
+  const Pose2 step = last_odometry_ ? last_odometry_->inverse().compose(*odometry) : Pose2{};
+  const double travelled_m = step.translation().norm();
+  const Eigen::Vector2d moved_m = Turn(-step.yaw_rad)(step.translation());
   if (travelled_m > options_.max_jump_m) reset();
   odometer_m_ += travelled_m;
   last_odometry_ = odometry;
   ++frame_;
   vehicle_ = correction_.compose(*odometry);
-  grow_misalignment(travelled_m, kind);  // every frame, also those without tape in view
-  // The rotation the wheel odometry's yaw drift (as estimated) added since the last frame, taken
-  // out (about the vehicle's origin, as a registration's correction is).
-  if (kind == OdometryKind::wheels && yaw_drift_rad_per_m_ != 0.0 && !points_.empty()) {
-    vehicle_ = vehicle_.compose(Pose2{0.0, 0.0, yaw_drift_rad_per_m_ * travelled_m}.inverse());
+  grow_misalignment(travelled_m, moved_m, kind);  // every frame, also those without tape in view
+  // The rotation the wheel odometry's yaw drift (as estimated) added since the last frame, and
+  // the part of its move its distance error (as estimated) added, taken out (about the
+  // vehicle's origin, as a registration's correction is).
+  if (kind == OdometryKind::wheels && !points_.empty() &&
+      (yaw_drift_rad_per_m_ != 0.0 || distance_error_ != 0.0)) {
+    const Eigen::Vector2d not_driven_m = distance_error_ * moved_m;
+    vehicle_ = vehicle_.compose(
+        Pose2{not_driven_m.x(), not_driven_m.y(), yaw_drift_rad_per_m_ * travelled_m}.inverse());
     correction_ = vehicle_.compose(odometry->inverse());
   }
   odometry_kind_ = kind;
@@ -1459,7 +1485,7 @@ LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetec
 
   std::vector<Eigen::Vector2d> in_vehicle = points_in_vehicle_frame();
   const std::vector<Eigen::Vector2d> evidence = evidence_of(detection);
-  register_to(evidence, detection.lines[detection.followed].model, &in_vehicle);
+  register_to(evidence, detection.lines[detection.followed].model, travelled_m, &in_vehicle);
   correction_ = vehicle_.compose(odometry->inverse());
 
   // Keep what is not too far behind and not too old; add this frame's evidence.

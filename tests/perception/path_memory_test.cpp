@@ -56,6 +56,30 @@ void keep_worst(const LineMeasurement& m, const control::TrackingError& truth, d
       std::max(*e_theta_rad, std::abs(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)));
 }
 
+// The line in view carried back exactly to the truth.
+LineMeasurement exactly(const control::TrackingError& truth) {
+  LineMeasurement m;
+  m.line_found = true;
+  m.e_d_m = truth.e_d_m;
+  m.e_theta_rad = truth.e_theta_rad;
+  return m;
+}
+
+// What wheel odometry reports for the vehicle's move from `from` to `to`: its distance
+// over-reported by `scale_error`, its heading turned yaw_drift_rad_per_m more per metre.
+Pose2 reported_step(const Pose2& from, const Pose2& to, double scale_error,
+                    double yaw_drift_rad_per_m) {
+  const Pose2 step = from.inverse().compose(to);
+  return {(1.0 + scale_error) * step.x_m, (1.0 + scale_error) * step.y_m,
+          step.yaw_rad + yaw_drift_rad_per_m * step.translation().norm()};
+}
+
+// The registration's shift per metre driven on wheels as loose as before their distance error
+// was estimated (PathMemoryOptions::wheels_shift_per_m, 2 %): where a test shows what a
+// mechanism keeps out of the memory, without it, by a memory moved along the tape (with the
+// tight default, little moves it either way).
+constexpr double kLooseShiftPerM = 0.02;
+
 struct Drive {
   int frames = 0, extrapolated = 0, from_memory = 0;
   double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;  // frames from memory
@@ -81,12 +105,9 @@ Drive drive(double scale_error, double yaw_drift_rad_per_m) {
     const Eigen::Vector2d p =
         path.point_at(s) + e_d * Eigen::Vector2d(-std::sin(heading), std::cos(heading));
     const Pose2 vehicle{p.x(), p.y(), wrap_angle_rad(heading + e_theta)};
-    if (k > 0) {
-      const Pose2 step = last_true.inverse().compose(vehicle);
-      const double distance = step.translation().norm();
-      odometry = odometry.compose({(1.0 + scale_error) * step.x_m, (1.0 + scale_error) * step.y_m,
-                                   step.yaw_rad + yaw_drift_rad_per_m * distance});
-    }
+    if (k > 0)
+      odometry =
+          odometry.compose(reported_step(last_true, vehicle, scale_error, yaw_drift_rad_per_m));
     last_true = vehicle;
     const control::TrackingError truth =
         path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.1));
@@ -431,19 +452,12 @@ SteadyDrift drive_with_steady_drift(const PathMemoryOptions& options, double yaw
     const double s = 0.03 * k;
     const double e_d = 0.004 * std::sin(0.2 * k), e_theta = deg_to_rad(1.0) * std::cos(0.2 * k);
     const Pose2 vehicle{s, e_d, e_theta};
-    if (k > 0) {
-      const Pose2 step = last_true.inverse().compose(vehicle);
-      odometry = odometry.compose(
-          {step.x_m, step.y_m, step.yaw_rad + yaw_drift_rad_per_m * step.translation().norm()});
-    }
+    if (k > 0)
+      odometry = odometry.compose(reported_step(last_true, vehicle, 0.0, yaw_drift_rad_per_m));
     last_true = vehicle;
     const control::TrackingError truth =
         path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.1));
-    LineMeasurement in_view;
-    in_view.line_found = true;
-    in_view.e_d_m = truth.e_d_m;
-    in_view.e_theta_rad = truth.e_theta_rad;
-    const LineMeasurement m = memory.update(in_view, seen_from(path, vehicle, s), odometry);
+    const LineMeasurement m = memory.update(exactly(truth), seen_from(path, vehicle, s), odometry);
     if (s < 1.5 || m.extrapolated) continue;
     sum_m += m.e_d_m - truth.e_d_m;
     ++counted;
@@ -465,9 +479,71 @@ TEST(PathMemory, AHeadingDriftTheWheelsKeepMakingIsEstimatedAndTakenOut) {
   EXPECT_LT(std::abs(estimated.mean_e_d_error_m), 2.5e-5);
   PathMemoryOptions without;
   without.yaw_drift_sigma_rad_per_m = 0.0;
+  without.wheels_shift_per_m = kLooseShiftPerM;
   const SteadyDrift lagging = drive_with_steady_drift(without, 0.0035);
   EXPECT_EQ(lagging.estimate_rad_per_m, 0.0);
   EXPECT_GT(std::abs(lagging.mean_e_d_error_m), 5e-5);
+}
+
+// A vehicle driven 10 mm a frame (agv evaluate's 0.3 m/s at 30 frames/s) along lines joined by
+// arcs of R 0.3-0.4 m turning 90 deg either way, exact evidence, its wheel odometry reporting
+// `distance_error` more than it drives: the RMS error of e_d over the frames read from the memory
+// in the last 1.5 m, and the memory's estimate of the distance error at the end.
+struct DistanceDrive {
+  double rms_e_d_error_m = 0.0, estimate = 0.0;
+  int counted = 0;
+};
+DistanceDrive drive_with_distance_error(const PathMemoryOptions& options, double distance_error) {
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0})
+                                 .add_line(0.3)
+                                 .add_arc(0.3, deg_to_rad(90.0))
+                                 .add_line(0.3)
+                                 .add_arc(0.3, deg_to_rad(-90.0))
+                                 .add_line(0.3)
+                                 .add_arc(0.4, deg_to_rad(90.0))
+                                 .add_line(0.3)
+                                 .add_arc(0.4, deg_to_rad(-90.0))
+                                 .add_line(1.0);
+  PathMemory memory(options);
+  DistanceDrive r;
+  Pose2 odometry, last_true;
+  double sum_m2 = 0.0;
+  const double length_m = path.length_m() - 0.5;
+  for (int k = 0; 0.01 * k < length_m; ++k) {
+    const double s = 0.01 * k;
+    const Pose2 vehicle{path.point_at(s).x(), path.point_at(s).y(), path.heading_at(s)};
+    if (k > 0) odometry = odometry.compose(reported_step(last_true, vehicle, distance_error, 0.0));
+    last_true = vehicle;
+    const control::TrackingError truth =
+        path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.05));
+    const LineMeasurement m = memory.update(exactly(truth), seen_from(path, vehicle, s), odometry);
+    if (s < length_m - 1.5 || m.extrapolated || !m.line_found) continue;
+    sum_m2 += (m.e_d_m - truth.e_d_m) * (m.e_d_m - truth.e_d_m);
+    ++r.counted;
+  }
+  r.rms_e_d_error_m = std::sqrt(sum_m2 / std::max(1, r.counted));
+  r.estimate = memory.distance_error();
+  return r;
+}
+
+// Wheels that report 1 % more than they roll: each remembered point is then misplaced along the
+// tape by 1 % of how far it was carried from the view to the vehicle (3 mm over 0.3 m), which no
+// correction of the overlap ahead puts right for the tape under the vehicle, and at each joint
+// the arc arrives under the vehicle late. The memory estimates it (0.99 % is exact; measured
+// 0.82 % at the end, its rate limited to 0.5 % per metre; within 0.3 %) and takes it out of each
+// frame's motion: the RMS error under 0.06 mm (measured 0.039 mm). Without the estimate
+// (distance_error_sigma 0) the registration alone, held tight along the tape, over 0.08 mm
+// (measured 0.097 mm).
+TEST(PathMemory, ADistanceTheWheelsOverReportIsEstimatedAndTakenOut) {
+  const DistanceDrive estimated = drive_with_distance_error({}, 0.01);
+  EXPECT_GE(estimated.counted, 100);
+  EXPECT_NEAR(estimated.estimate, 0.01 / 1.01, 0.003);
+  EXPECT_LT(estimated.rms_e_d_error_m, 6e-5);
+  PathMemoryOptions without;
+  without.distance_error_sigma = 0.0;
+  const DistanceDrive lagging = drive_with_distance_error(without, 0.01);
+  EXPECT_EQ(lagging.estimate, 0.0);
+  EXPECT_GT(lagging.rms_e_d_error_m, 8e-5);
 }
 
 // A straight tape of which one stretch (1.0-1.15 m along) was only ever seen as another tape
@@ -1521,6 +1597,7 @@ TEST(PathMemory, AShortStretchOfEvidenceDoesNotMoveTheMemory) {
   EXPECT_LE(worst_after_a_short_biased_stretch({}), 1e-4);
   PathMemoryOptions any_span;
   any_span.min_overlap_span_m = 0.0;
+  any_span.wheels_shift_per_m = kLooseShiftPerM;
   EXPECT_GE(worst_after_a_short_biased_stretch(any_span), 0.001);
 }
 
@@ -1570,6 +1647,7 @@ TEST(PathMemory, GlareOnAFewChordsInViewTurnsTheMemoryLess) {
   EXPECT_LE(worst_with_glare_in_view({}, 0.002), 1.0e-3);
   PathMemoryOptions least_squares;
   least_squares.registration_residual_scale_m = 0.0;
+  least_squares.wheels_shift_per_m = kLooseShiftPerM;
   EXPECT_GE(worst_with_glare_in_view(least_squares, 0.002), 1.5e-3);
 }
 
@@ -1963,8 +2041,10 @@ TEST(PathMemory, ABranchFollowedBeforeTheLegsPartedIsForgottenOnceTheWayTakenIsS
 // model turning right, R 2 m, through the origin: carried back it meets the course under the
 // vehicle), the straight tape remembered ahead up to 0.68 m. That tape lies on the side the
 // line in view turns away from and is kept: passing the fork (0.40-0.60 m), the errors come from
-// it, within 1.5 mm / 1 deg (the branch's evidence shares the window: 0.9 mm / 0.5 deg; 0.9 mm
-// / 1.3 deg without forgetting any way not taken). Forgotten on either side
+// it, within 1.5 mm / 1.2 deg (the branch's evidence shares the window: 0.9 mm / 0.5 deg; 0.9 mm
+// / 1.3 deg without forgetting any way not taken; 0.9 mm / 1.03 deg since the registration holds
+// the memory tighter along the tape and estimates the odometry's distance error, which the
+// branch's evidence moves a little). Forgotten on either side
 // (way_straight_turn_1_m infinite), the branch was read: 22 mm / 17 deg off.
 ForkDrive drive_on_a_branch_followed_instead(const PathMemoryOptions& options) {
   return drive_by_a_branch(options, BranchChoice::kStraight, [](double s, const Pose2& vehicle) {
@@ -1980,7 +2060,7 @@ TEST(PathMemory, GoingStraightOnTheTapeBesideABranchFollowedIsKept) {
   const ForkDrive r = drive_on_a_branch_followed_instead({});
   EXPECT_GE(r.read_from_memory, 15);
   EXPECT_LT(r.worst_e_d_m, 0.0015);
-  EXPECT_LT(rad_to_deg(r.worst_e_theta_rad), 1.0);
+  EXPECT_LT(rad_to_deg(r.worst_e_theta_rad), 1.2);
   PathMemoryOptions either_side;
   either_side.way_straight_turn_1_m = std::numeric_limits<double>::infinity();
   EXPECT_GT(drive_on_a_branch_followed_instead(either_side).worst_e_d_m, 0.005);
