@@ -364,8 +364,8 @@ void PathMemory::grow_misalignment(double travelled_m, const Eigen::Vector2d& mo
                                    OdometryKind kind) {
   // The misalignment's uncertainty grows by what the odometry can have got wrong since the last
   // frame: a constant by kind of odometry and a part per metre driven (from 0 when nothing is
-  // remembered: this frame's evidence is placed where the vehicle is; the yaw drift estimate
-  // stays).
+  // remembered: this frame's evidence is placed where the vehicle is; the yaw drift and distance
+  // error estimates stay).
   if (points_.empty()) {
     misalignment_cov_.topRows<3>().setZero();
     misalignment_cov_.leftCols<3>().setZero();
@@ -504,7 +504,9 @@ void PathMemory::register_to(const std::vector<Eigen::Vector2d>& evidence, const
   }
   yaw_drift_rad_per_m_ += delta[3];
   // The distance error at most distance_error_rate_per_m further per metre driven since the last
-  // frame (what one registration says of it may be a corner's bias, or another tape's).
+  // frame (what one registration says of it may be a corner's bias, or another tape's). Its
+  // variance is the filter's all the same: where the limit holds, the filter is surer of the
+  // estimate than it should be, and the estimate converges the slower for it.
   const double most = options_.distance_error_rate_per_m * travelled_m;
   distance_error_ += std::clamp(delta[4], -most, most);
   const Pose2 move{delta[1], delta[2], delta[0]};

@@ -266,9 +266,9 @@ struct PathMemoryOptions {
   // Wheels shift the vehicle only as far as they roll: no constant shift, only 0.2 % per metre
   // (wheels_shift_per_m; motion read from the frames or guessed 2 %), the random part of their
   // error; what they report too far or too short every metre is the distance error, estimated
-  // apart (below). Before it was, 2 % per metre (four times the
-  // default scenario's distance error) let the registration follow it frame by frame; with the
-  // estimate and 0.2 %: agv evaluate seeds 1-12, the median sequence 0.125 -> 0.087 mm, p95
+  // apart (below). Before it was, 2 % per metre (four times the default scenario's distance
+  // error) let the registration follow it frame by frame; with the estimate and 0.2 %: agv
+  // evaluate seeds 1-12, the median sequence 0.125 -> 0.087 mm, p95
   // 0.49 -> 0.36 mm (2 % with the estimate: 0.120 mm; 0.5 % without it: 0.102 mm, but 3 %
   // wheels then 0.33 deg off in PathMemory.RegistrationRemovesOdometryDrift). With 0.2 mm a frame
   // more, at 30 frames/s the memory could move 0.4 mm a frame, which a corner's evidence (its
