@@ -526,10 +526,10 @@ DistanceDrive drive_with_distance_error(const PathMemoryOptions& options, double
   return r;
 }
 
-// Wheels that report 1 % more than they roll: each remembered point is then misplaced along the
-// tape by 1 % of how far it was carried from the view to the vehicle (3 mm over 0.3 m), which no
-// correction of the overlap ahead puts right for the tape under the vehicle, and at each joint
-// the arc arrives under the vehicle late. The memory estimates it (0.99 % is exact; measured
+// Wheels that report 1 % more than they roll: every frame the whole memory then moves 1 % of the
+// frame's motion along it, which along a line or an arc no registration sees, so that a joint
+// carried from the view to the vehicle arrives 3 mm out along the tape (1 % of 0.3 m) and the arc
+// reaches the vehicle late. The memory estimates it (0.99 % is exact; measured
 // 0.82 % at the end, its rate limited to 0.5 % per metre; within 0.3 %) and takes it out of each
 // frame's motion: the RMS error under 0.06 mm (measured 0.039 mm). Without the estimate
 // (distance_error_sigma 0) the registration alone, held tight along the tape, over 0.08 mm
