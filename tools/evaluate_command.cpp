@@ -73,6 +73,11 @@ void add_evaluate_command(CLI::App& app, EvaluateArgs& args) {
       "without tape, to this folder (at most 60; the sequences' in sequences/ there, at most 5 a "
       "sequence, 60 with --only-sequence, each with a top view of what the path memory held: "
       "NAME_top.png, its points in NAME_top.csv)");
+  sub->add_option("--save-frames", args.save_frames,
+                  "With --only-sequence and --save-failures: also write that sequence's frames "
+                  "FIRST to LAST (numbered from 0 as the saved files name them), failed or not, "
+                  "with their top views (at most 60)")
+      ->type_name("FIRST LAST");
   sub->add_flag("--json", args.json, "Print the summary as JSON");
   sub->add_flag("--quiet", args.quiet, "No progress bar");
 }
@@ -144,6 +149,15 @@ int run_evaluate(const EvaluateArgs& args) {
     throw InputError("--only-sequence " + std::to_string(args.only_sequence) + ": there are " +
                      std::to_string(args.sequences + args.empty_sequences) +
                      " sequences (--sequences plus --empty-sequences), numbered from 0");
+  if (args.save_frames) {
+    const auto [first, last] = *args.save_frames;
+    const std::string given =
+        "--save-frames " + std::to_string(first) + " " + std::to_string(last) + ": ";
+    if (args.only_sequence < 0 || args.save_failures.empty())
+      throw InputError(given + "needs --only-sequence (the sequence) and --save-failures (where)");
+    if (first < 0 || last < first || last - first >= 60)
+      throw InputError(given + "FIRST must be 0 or more, LAST from FIRST to FIRST + 59");
+  }
   // The output folder first: a folder that may not be replaced is refused before the work.
   std::optional<pipeline::OutputFolder> folder;
   if (!args.out_dir.empty()) folder.emplace(args.out_dir, "summary.json", args.force);
@@ -160,6 +174,10 @@ int run_evaluate(const EvaluateArgs& args) {
     sequence_options.path_length_m = args.sequence_length_m;
     sequence_options.seed = args.seed;
     sequence_options.only_sequence = args.only_sequence;
+    if (args.save_frames) {
+      sequence_options.save_first_frame = args.save_frames->first;
+      sequence_options.save_last_frame = args.save_frames->second;
+    }
     if (args.only_sequence >= 0)
       sequence_options.max_saved_per_sequence = sequence_options.max_saved;
     sequence_options.pieces.clear();

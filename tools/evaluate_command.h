@@ -1,6 +1,8 @@
 #pragma once
 
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -20,6 +22,7 @@ struct EvaluateArgs {
   std::string out_dir;
   bool force = false;  // --force: replace an existing output folder
   std::string save_failures;
+  std::optional<std::pair<int, int>> save_frames;  // --save-frames FIRST LAST
   bool json = false;
   bool quiet = false;
 };

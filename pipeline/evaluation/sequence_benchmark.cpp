@@ -197,8 +197,11 @@ void run_sequence(cv::RNG& rng, const SequenceBenchmarkOptions& options, int ind
       r.error_e_d_m = m.e_d_m - truth.e_d_m;
       r.error_e_theta_rad = wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad);
     }
-    if (failed(r, options) && !options.save_failures_dir.empty() &&
-        saved_here < options.max_saved_per_sequence && *saved < options.max_saved) {
+    // The frames asked for are saved beside the failures, not counted against their limits.
+    const bool asked = f >= options.save_first_frame && f <= options.save_last_frame;
+    const bool failure_kept = failed(r, options) && saved_here < options.max_saved_per_sequence &&
+                              *saved < options.max_saved;
+    if ((asked || failure_kept) && !options.save_failures_dir.empty()) {
       char name[96], caption[160];
       std::snprintf(name, sizeof(name), "/sequence%03d_frame%03d.png", index, f);
       std::snprintf(caption, sizeof(caption), "seq %d f %d %s %.2f m error %.2f mm %.2f deg", index,
@@ -208,8 +211,10 @@ void run_sequence(cv::RNG& rng, const SequenceBenchmarkOptions& options, int ind
       std::snprintf(name, sizeof(name), "/sequence%03d_frame%03d_top.csv", index, f);
       write_top_view_table(options.save_failures_dir + name, pose, perceiver.remembered_tape(),
                            detection, scene.tapes);
-      ++saved_here;
-      ++*saved;
+      if (!asked) {
+        ++saved_here;
+        ++*saved;
+      }
     }
     result->frames.push_back(std::move(r));
   }

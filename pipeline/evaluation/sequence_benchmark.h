@@ -34,6 +34,9 @@ struct SequenceBenchmarkOptions {
   std::string save_failures_dir;
   int max_saved_per_sequence = 5;
   int max_saved = 60;
+  // Frames save_first_frame to save_last_frame of each sequence driven are saved too, failed or
+  // not, whatever the limits above (-1: none).
+  int save_first_frame = -1, save_last_frame = -1;
 };
 
 // One frame of a sequence and what perception, as the loop runs it (tracking between full

@@ -151,6 +151,29 @@ TEST_F(AgvCli, EvaluateDrivesOneSequenceAgainAsInTheFullRun) {
   EXPECT_NE(bad.output.find("--only-sequence 2: there are 2"), std::string::npos) << bad.output;
 }
 
+// --save-frames writes the frames asked for of the one sequence driven, failed or not: frames 3-5
+// lie in the warm-up (0.5 m, 50 frames at 10 mm a frame), where no frame counts as failed, so
+// their neighbours 2 and 6 are not written. Without --only-sequence it is refused.
+TEST_F(AgvCli, EvaluateSavesTheFramesAskedFor) {
+  const std::string evaluate =
+      "evaluate --quiet --conditions 1 --frames-per-condition 1 --empty-conditions 0 --sequences 1 "
+      "--empty-sequences 0 --sequence-length-m 1 --sequence-pieces line --save-failures " +
+      path("saved");
+  ASSERT_EQ(run(evaluate + " --only-sequence 0 --save-frames 3 5").exit_code, 0);
+  const std::filesystem::path saved = dir_ / "saved" / "sequences";
+  for (int f = 2; f <= 6; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof(name), "sequence000_frame%03d", f);
+    const bool asked = f >= 3 && f <= 5;
+    EXPECT_EQ(std::filesystem::exists(saved / (std::string(name) + ".png")), asked) << name;
+    EXPECT_EQ(std::filesystem::exists(saved / (std::string(name) + "_top.csv")), asked) << name;
+  }
+  const Result bad = run(evaluate + " --save-frames 3 5");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--save-frames 3 5: needs --only-sequence"), std::string::npos)
+      << bad.output;
+}
+
 // An existing output folder is replaced only when the user asks (--force), and then only when
 // it holds a previous result; a folder of something else is never removed.
 TEST_F(AgvCli, AnExistingOutputFolderIsReplacedOnlyWithForce) {
