@@ -581,7 +581,15 @@ std::optional<LineMeasurement> PathMemory::at_origin(
     both_sides = lo <= -cover_m && hi >= cover_m;
     const bool one_side = (lo <= -cover_m && hi >= -short_m) || (hi >= cover_m && lo <= short_m);
     if (!both_sides && !(one_side && odometry_kind_ == OdometryKind::wheels)) return std::nullopt;
+    // Read from one side, two joined arcs only where they fit clearly better than one
+    // (one_side_joint_gain).
     fit = fit_joined_arcs(local, weights);
+    if (!both_sides && fit && fit->break_x_m) {
+      JoinedArcsOptions one_piece;
+      one_piece.joint = false;
+      const std::optional<JoinedArcs> one = fit_joined_arcs(local, weights, one_piece);
+      if (one && one->rms_m <= options_.one_side_joint_gain * fit->rms_m) fit = one;
+    }
     if (!fit) return std::nullopt;
     // The fit is in this frame: turn it only for another pass (the model below adds the slope).
     if (std::abs(fit->slope) < 0.02 || pass == 2) {

@@ -942,6 +942,9 @@ TEST(PathMemory, AFitTurningTheTapeFurtherThanATapeTurnsIsRefused) {
 struct Blind {
   int remembered = 0, carried = 0, lost = 0;
   double last_remembered_s = 0.0, last_carried_s = 0.0, blank_from_s = 0.0;
+  // Of the frames read from the remembered tape from s 0.8 m on (the last 6 cm of the corner's
+  // arc seen, where that tape ends ahead of the origin by less than the window's cover).
+  double worst_end_curvature_error_1_m = 0.0;
 };
 // The corner's radius and turn to the left; the view blanks from blank_from_s on.
 struct Corner {
@@ -949,15 +952,20 @@ struct Corner {
   double blank_from_s = 0.43;   // where the tape leaves the view at 48 deg
   bool leaves_at_side = false;  // the evidence's far end at the image's left or right border
 };
-Blind drive_blind(std::optional<Corner> corner, const PathMemoryOptions& options = {}) {
+// The readings are checked against the truth unless check_readings is false (a counterfactual
+// run, which only returns its figures).
+Blind drive_blind(std::optional<Corner> corner, const PathMemoryOptions& options = {},
+                  double (*centre_offset_m)(double) = nullptr, double step_m = 0.02,
+                  bool check_readings = true) {
   control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(0.6);
   if (corner) path = path.add_arc(corner->radius_m, deg_to_rad(corner->turn_deg));
   path = path.add_line(1.0);
   PathMemory memory(options);
   Blind r;
   r.blank_from_s = corner ? corner->blank_from_s : 0.41;
-  for (int k = 0; k < 60; ++k) {
-    const double s = 0.05 + 0.02 * k;
+  const int frames = static_cast<int>(std::lround(1.2 / step_m));
+  for (int k = 0; k < frames; ++k) {
+    const double s = 0.05 + step_m * k;
     const Pose2 vehicle{path.point_at(s).x(), path.point_at(s).y(), path.heading_at(s)};
     const control::TrackingError truth =
         path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.1));
@@ -968,7 +976,7 @@ Blind drive_blind(std::optional<Corner> corner, const PathMemoryOptions& options
     seen.e_theta_rad = truth.e_theta_rad;
     LineDetection d;
     if (in_view) {
-      d = seen_from(path, vehicle, s);
+      d = seen_from(path, vehicle, s, centre_offset_m);
       // The followed line as the tape runs where its evidence ends farthest ahead (0.43 m): its
       // position, direction and curvature there.
       const double s_far = s + 0.43;
@@ -994,18 +1002,26 @@ Blind drive_blind(std::optional<Corner> corner, const PathMemoryOptions& options
     }
     EXPECT_EQ(r.lost, 0) << "a line again after none, at s " << s;
     EXPECT_TRUE(m.remembered_only) << k;
+    const double e_theta_error_deg = rad_to_deg(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad));
     if (m.extrapolated) {
-      EXPECT_NEAR(m.e_d_m, truth.e_d_m, 1e-3) << s;
-      EXPECT_NEAR(rad_to_deg(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)), 0.0, 0.5) << s;
+      if (check_readings) {
+        EXPECT_NEAR(m.e_d_m, truth.e_d_m, 1e-3) << s;
+        EXPECT_NEAR(e_theta_error_deg, 0.0, 0.5) << s;
+      }
       ++r.carried;
       r.last_carried_s = s;
       continue;
     }
     EXPECT_EQ(r.carried, 0) << "remembered tape again after the arc was carried on, at s " << s;
-    EXPECT_NEAR(m.e_d_m, truth.e_d_m, 1e-4) << s;
-    EXPECT_NEAR(rad_to_deg(wrap_angle_rad(m.e_theta_rad - truth.e_theta_rad)), 0.0, 0.2) << s;
+    if (check_readings) {
+      EXPECT_NEAR(m.e_d_m, truth.e_d_m, 1e-4) << s;
+      EXPECT_NEAR(e_theta_error_deg, 0.0, 0.2) << s;
+    }
     ++r.remembered;
     r.last_remembered_s = s;
+    if (s >= 0.8)
+      r.worst_end_curvature_error_1_m = std::max(r.worst_end_curvature_error_1_m,
+                                                 std::abs(m.curvature_1_m - path.curvature_at(s)));
   }
   return r;
 }
@@ -1017,6 +1033,28 @@ TEST(PathMemory, PastACornerTheRememberedTapeUnderTheVehicle) {
   EXPECT_LE(r.last_remembered_s, r.blank_from_s + 0.43 - 0.025 + 1e-9);
   EXPECT_GE(r.carried, 5);
   EXPECT_LE(r.last_carried_s, r.last_remembered_s + PathMemoryOptions{}.carry_forward_m + 1e-9);
+}
+
+// Chord centres scattered by up to 0.03 mm either side of the centre line, the same for each
+// stretch of tape in every frame that sees it.
+double scattered_centre_m(double s_m) { return 3e-5 * std::sin(7919.0 * s_m * s_m); }
+
+// As above, the evidence scattered and the frames 5 mm apart: the last frames read from the
+// memory reach the origin from one side. A joint fitted to the scatter there left the origin on a
+// piece of a few points (agv evaluate seed 43, sequence 9: 0.5 1/m read in a corner of R 0.28 m,
+// the arc then not carried on and the line lost at once). Read from one side, a joint only where
+// it fits clearly better than one arc: the curvature within 3 % of the arc's (measured 1 %; with
+// every joint kept, one_side_joint_gain 0, 4.7 % here).
+TEST(PathMemory, PastACornerTheArcReadFromOneSideHasNoJointFittedToTheScatter) {
+  const Blind r = drive_blind(Corner{}, {}, scattered_centre_m, 0.005);
+  EXPECT_GE(r.remembered, 10);
+  EXPECT_GE(r.carried, 5);
+  EXPECT_LT(r.worst_end_curvature_error_1_m, 0.1);
+  PathMemoryOptions every_joint;
+  every_joint.one_side_joint_gain = 0.0;
+  EXPECT_GT(drive_blind(Corner{}, every_joint, scattered_centre_m, 0.005, false)
+                .worst_end_curvature_error_1_m,
+            0.1);
 }
 
 // An arc of R 0.5 m (60 deg) leaving a narrow view sideways: where the view blanks (s 0.33 m) the
