@@ -58,14 +58,6 @@ struct PathMemoryOptions {
                                  //     one side, and on the other at least to one_side_reach_m
                                  //     short of the origin (see at_origin)
   double one_side_reach_m = 0.005;
-  // Read from one side, the window's tape is fitted with two joined arcs only where their
-  // residual is less than one arc's by this factor: a joint fitted to the scatter of the points
-  // left the origin on a piece of a few points beyond it, whose curvature was anyone's guess
-  // (agv evaluate seed 43, sequence 9: 0.5 1/m read in a corner of R 0.28 m, 3.6 1/m the frame
-  // before; the arc then not carried on past the tape seen, and the corner's outgoing leg
-  // carried back read up to 51 mm off). A real joint there (a corner's arc running into the line
-  // after it) fits over 3 times better. 0 keeps every joint.
-  double one_side_joint_gain = 1.5;
   double window_across_m = 0.1;  // ... and lie no further than this across it
   // ... and turn the tape's direction there from the one last measured by no more than this
   // plus max_curvature_1_m times the distance driven since (R 0.1 m). 0.2 rad let a fit through
@@ -107,6 +99,14 @@ struct PathMemoryOptions {
   // mm (scenarios/fork_left.yaml started 0.50 m along at 0.32 m/s: a frame 9.6 mm off, the run
   // 1.141 -> 0.049 mm RMS; agv evaluate seeds 1-12: no sequence changed by 0.001 mm).
   double max_fit_rms_m = 0.001;
+  // Read from one side, the window's tape is fitted with two joined arcs only where their
+  // residual is less than one arc's by this factor: a joint fitted to the scatter of the points
+  // left the origin on a piece of a few points beyond it, whose curvature was anyone's guess
+  // (agv evaluate seed 43, sequence 9: 0.5 1/m read in a corner of R 0.28 m, 3.6 1/m the frame
+  // before; the arc then not carried on past the tape seen, and the corner's outgoing leg
+  // carried back read up to 51 mm off). A real joint there (a corner's arc running into the line
+  // after it) fits over 3 times better. 0 keeps every joint.
+  double one_side_joint_gain = 1.5;
   double chord_width_tolerance = 0.06;  // evidence: chords this near the tape's median width
   // Where a fork's legs still overlap and no other leg is seen apart (a branch leaving
   // tangentially), their chords are wider than the tape and none is evidence: the memory had a
