@@ -340,6 +340,9 @@ void PathMemory::reset() {
   recent_headings_.clear();
   last_course_.reset();
   last_reading_.reset();
+  reported_at_m_.reset();
+  unconfirmed_.reset();
+  frames_without_line_ = 0;
   last_corner_course_.reset();
   read_off_corner_ = false;
 }
@@ -1448,10 +1451,50 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
   if (odometry && m.line_found && !reading_held_) {
     const std::optional<double> offset_m = offset_from_recent_reading_m(m);
     last_reading_confirmed_ = offset_m && *offset_m <= options_.hold_course_offset_m;
-    const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
-    last_reading_ = Course{vehicle_.transform(model.foot_point()), vehicle_.yaw_rad - m.e_theta_rad,
-                           m.curvature_1_m, odometer_m_};
+    last_reading_ = course_of(m);
   }
+  refused_because_.clear();
+  if (!odometry) return m;  // nothing to carry a refused line forward with
+  return confirmed(m);
+}
+
+PathMemory::Course PathMemory::course_of(const LineMeasurement& m) const {
+  const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+  return Course{vehicle_.transform(model.foot_point()), vehicle_.yaw_rad - m.e_theta_rad,
+                m.curvature_1_m, odometer_m_};
+}
+
+LineMeasurement PathMemory::confirmed(const LineMeasurement& m) {
+  if (!m.line_found) {
+    ++frames_without_line_;
+    return m;
+  }
+  // Blind: frames without a line since the last one reported (not merely frames far apart).
+  const bool after_blind = frames_without_line_ > 0 && reported_at_m_ &&
+                           odometer_m_ - *reported_at_m_ >= options_.confirm_after_blind_m;
+  if (m.extrapolated && after_blind) {
+    const CurveModel seen{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+    bool agrees = false;
+    if (unconfirmed_) {
+      const CurveModel before = course_now(*unconfirmed_);
+      agrees = std::abs(seen.e_d_m - before.e_d_m) <= options_.confirm_offset_m &&
+               std::abs(wrap_angle_rad(seen.heading_rad - before.heading_rad)) <=
+                   options_.confirm_heading_rad;
+    }
+    if (!agrees) {
+      unconfirmed_ = course_of(m);
+      refused_because_ =
+          "line found again after a blind stretch, carried back from the view: not yet "
+          "confirmed by the next frame";
+      LineMeasurement refused;
+      refused.stamp_s = m.stamp_s;
+      ++frames_without_line_;
+      return refused;
+    }
+  }
+  unconfirmed_.reset();
+  reported_at_m_ = odometer_m_;
+  frames_without_line_ = 0;
   return m;
 }
 

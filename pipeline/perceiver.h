@@ -52,7 +52,10 @@ class ImagePerceiver : public Perceiver {
       estimator_.vehicle_turned(wrap_angle_rad(odometry->yaw_rad - last_odometry_->yaw_rad));
     last_odometry_ = odometry;
     const LineMeasurement in_view = estimator_.measure(frame.image, frame.t_s, &detection);
-    return memory_->update(in_view, detection, odometry, kind);
+    const LineMeasurement m = memory_->update(in_view, detection, odometry, kind);
+    if (!m.line_found && !memory_->refused_because().empty())
+      detection.rejected_because = memory_->refused_because();
+    return m;
   }
   // A bad frame between: the line tracking starts again; the remembered tape stays (the
   // odometry still places it), but motion read from the frames must start again.

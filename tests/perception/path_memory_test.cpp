@@ -4,9 +4,13 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <limits>
 #include <optional>
 #include <random>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -646,27 +650,47 @@ TEST(PathMemory, TheCourseIsHeldWhereTheLineInViewJumpsAside) {
 }
 
 // The warm-up on straight tape (the tape seen 0.17 m ahead and more: nothing remembered under
-// the vehicle, the line in view carried back is the reading), 1 cm a frame: the line in view
-// jumps 0.25 m aside and 1 rad (a band of a shadow's edge taken for the tape) from s = 0.10 m,
-// for one frame or for good. The frame after a reading gives that reading carried forward
-// (exact here: straight tape, exact odometry), flagged extrapolated, for hold_reading_m (3 cm)
-// from the last reading taken; then the line in view is taken. Without the hold: 0.25 m off at
-// once.
-std::vector<LineMeasurement> warm_up_with_a_jump(const PathMemoryOptions& options, bool for_good) {
+// the vehicle, the line in view carried back is the reading), 1 cm a frame on exact odometry,
+// frames 0 to `last`: each frame's line in view from in_view_at(k) (the tape's chords seen where
+// it is found, none where not). What the memory returns each frame, and (`refusals`, optional)
+// why it gave no line.
+std::vector<LineMeasurement> along_straight_tape(
+    const PathMemoryOptions& options, int last,
+    const std::function<LineMeasurement(int)>& in_view_at,
+    std::vector<std::string>* refusals = nullptr) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
   PathMemory memory(options);
   std::vector<LineMeasurement> readings;
-  for (int k = 0; k <= 16; ++k) {
+  for (int k = 0; k <= last; ++k) {
     const double s = 0.01 * k;
     const Pose2 vehicle{s, 0.0, 0.0};
-    LineMeasurement in_view;
-    in_view.line_found = true;
-    const bool jumped = for_good ? k >= 10 : k == 10;
-    in_view.e_d_m = jumped ? 0.25 : 0.0;  // the truth is 0
-    in_view.e_theta_rad = jumped ? 1.0 : 0.0;
-    readings.push_back(memory.update(in_view, seen_from(path, vehicle, s), vehicle));
+    const LineMeasurement in_view = in_view_at(k);
+    const LineDetection seen = in_view.line_found ? seen_from(path, vehicle, s) : LineDetection{};
+    readings.push_back(memory.update(in_view, seen, vehicle));
+    if (refusals) refusals->push_back(memory.refused_because());
   }
   return readings;
+}
+
+// A line in view, `e_d_m` and `e_theta_rad` carried back (the truth is 0).
+LineMeasurement line_in_view(double e_d_m = 0.0, double e_theta_rad = 0.0) {
+  LineMeasurement m;
+  m.line_found = true;
+  m.e_d_m = e_d_m;
+  m.e_theta_rad = e_theta_rad;
+  return m;
+}
+
+// The warm-up of along_straight_tape, the line in view jumping 0.25 m aside and 1 rad (a band
+// of a shadow's edge taken for the tape) from s = 0.10 m, for one frame or for good. The frame
+// after a reading gives that reading carried forward (exact here: straight tape, exact
+// odometry), flagged extrapolated, for hold_reading_m (3 cm) from the last reading taken; then
+// the line in view is taken. Without the hold: 0.25 m off at once.
+std::vector<LineMeasurement> warm_up_with_a_jump(const PathMemoryOptions& options, bool for_good) {
+  return along_straight_tape(options, 16, [for_good](int k) {
+    const bool jumped = for_good ? k >= 10 : k == 10;
+    return jumped ? line_in_view(0.25, 1.0) : line_in_view();
+  });
 }
 
 TEST(PathMemory, TheReadingIsHeldWhereTheLineInViewJumpsAsideInTheWarmUp) {
@@ -687,26 +711,61 @@ TEST(PathMemory, TheReadingIsHeldWhereTheLineInViewJumpsAsideInTheWarmUp) {
 // The same warm-up, the line lost at s = 0.06-0.08 m and the first line after the gap aside
 // (0.25 m): that reading is unconfirmed (nothing before it to agree with), and the right line
 // in view the frame after is taken, not held off by it (agv evaluate seed 27, sequence 9: held,
-// 2.2 mm -> 79 mm off for two frames).
+// 2.2 mm -> 79 mm off for two frames). The gap, 4 cm from the last line, is no blind stretch
+// (PathMemoryOptions::confirm_after_blind_m).
 TEST(PathMemory, AReadingAfterALostStretchIsNotHeld) {
-  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0}).add_line(2.0);
-  PathMemory memory;
-  LineMeasurement last;
-  for (int k = 0; k <= 10; ++k) {
-    const double s = 0.01 * k;
-    const Pose2 vehicle{s, 0.0, 0.0};
-    LineMeasurement in_view;
-    in_view.line_found = k < 6 || k > 8;
-    in_view.e_d_m = k == 9 ? 0.25 : 0.0;  // the truth is 0
-    LineDetection seen = seen_from(path, vehicle, s);
-    if (!in_view.line_found) seen = LineDetection{};
-    last = memory.update(in_view, seen, vehicle);
-    if (k == 9) {
-      EXPECT_NEAR(last.e_d_m, 0.25, 1e-9);  // nothing to tell it from the tape
-    }
-  }
-  ASSERT_TRUE(last.line_found);
-  EXPECT_LE(std::abs(last.e_d_m), 1e-6);
+  const std::vector<LineMeasurement> readings = along_straight_tape({}, 10, [](int k) {
+    LineMeasurement m = line_in_view(k == 9 ? 0.25 : 0.0);
+    m.line_found = k < 6 || k > 8;
+    return m;
+  });
+  EXPECT_NEAR(readings[9].e_d_m, 0.25, 1e-9);  // nothing to tell it from the tape
+  ASSERT_TRUE(readings[10].line_found);
+  EXPECT_LE(std::abs(readings[10].e_d_m), 1e-6);
+}
+
+// The same warm-up, the line reported at s = 0-0.05 m, then lost for 8 cm (s = 0.06-0.13 m,
+// over confirm_after_blind_m), then found again before the tape first seen is reached (0.17 m),
+// carried back with e_d = `first_after_m` (a corner's far leg carried back across the corner),
+// then twice with the truth (0): the lines reported at s = 0.14-0.16 m, NaN for none.
+std::vector<double> reported_after_a_blind_stretch(const PathMemoryOptions& options,
+                                                   double first_after_m,
+                                                   std::string* first_reason = nullptr) {
+  std::vector<std::string> refusals;
+  const std::vector<LineMeasurement> readings = along_straight_tape(
+      options, 16,
+      [first_after_m](int k) {
+        LineMeasurement m = line_in_view(k == 14 ? first_after_m : 0.0);
+        m.line_found = k <= 5 || k >= 14;
+        return m;
+      },
+      &refusals);
+  for (int k = 0; k <= 5; ++k) EXPECT_TRUE(readings[k].line_found) << k;  // not held back
+  if (first_reason) *first_reason = refusals[14];
+  std::vector<double> reported;
+  for (int k = 14; k <= 16; ++k)
+    reported.push_back(readings[k].line_found ? readings[k].e_d_m : std::nan(""));
+  return reported;
+}
+
+// A line found again after a blind stretch, only carried back from the view, is reported once
+// the next frame agrees with it: 30 mm off, refused (with a reason), then the truth refused once
+// (it disagrees by 30 mm), then the truth agreeing with it reported. A first line that is right
+// waits one frame. Without the check (confirm_after_blind_m infinite) the 30 mm line is reported.
+TEST(PathMemory, ALineCarriedBackAfterABlindStretchWaitsForTheNextFrameToAgree) {
+  std::string reason;
+  const std::vector<double> off = reported_after_a_blind_stretch({}, 0.03, &reason);
+  ASSERT_EQ(off.size(), 3u);
+  EXPECT_TRUE(std::isnan(off[0]));
+  EXPECT_NE(reason.find("not yet confirmed"), std::string::npos) << reason;
+  EXPECT_TRUE(std::isnan(off[1]));
+  EXPECT_NEAR(off[2], 0.0, 1e-9);
+  const std::vector<double> right = reported_after_a_blind_stretch({}, 0.0);
+  EXPECT_TRUE(std::isnan(right[0]));
+  EXPECT_NEAR(right[1], 0.0, 1e-9);
+  PathMemoryOptions unchecked;
+  unchecked.confirm_after_blind_m = std::numeric_limits<double>::infinity();
+  EXPECT_NEAR(reported_after_a_blind_stretch(unchecked, 0.03)[0], 0.03, 1e-9);
 }
 
 // No odometry: nothing can be remembered; every frame is the line in view, flagged.
