@@ -1484,7 +1484,7 @@ LineMeasurement PathMemory::confirmed(const LineMeasurement& m) {
     if (!agrees) {
       unconfirmed_ = course_of(m);
       refused_because_ =
-          "line found again after a blind stretch, carried back from the view: not yet "
+          "line found again after a blind stretch and carried back from the view: not yet "
           "confirmed by the next frame";
       LineMeasurement refused;
       refused.stamp_s = m.stamp_s;
