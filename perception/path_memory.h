@@ -367,7 +367,9 @@ class PathMemory {
   // `detection` what perception saw (its followed line's chords are the evidence), `odometry`
   // the vehicle's odometry pose (any origin) when the frame was taken, `kind` where its motion
   // since the last frame came from. A frame without a line adds
-  // nothing and is returned as it is; without odometry the memory restarts.
+  // nothing and is returned as it is; without odometry the memory restarts. A line found again
+  // after a blind stretch may be returned as none until the next frame confirms it
+  // (PathMemoryOptions::confirm_after_blind_m; refused_because() says so).
   LineMeasurement update(const LineMeasurement& in_view, const LineDetection& detection,
                          const std::optional<Pose2>& odometry,
                          OdometryKind kind = OdometryKind::wheels);
