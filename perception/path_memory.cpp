@@ -221,6 +221,11 @@ bool runs_against_the_vehicle(const CurveModel& model) {
   return std::abs(wrap_angle_rad(model.heading_rad)) > M_PI / 2.0;
 }
 
+// The line a measurement describes, in the vehicle frame (with_model's inverse).
+CurveModel model_of(const LineMeasurement& m) {
+  return CurveModel{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+}
+
 // `in_view` with its errors and curvature from the remembered tape's model at the origin.
 LineMeasurement with_model(const LineMeasurement& in_view, const CurveModel& model) {
   LineMeasurement m = in_view;
@@ -1002,7 +1007,7 @@ void PathMemory::add_preview(const std::vector<Eigen::Vector2d>& in_vehicle,
   // Walk along the tape from the foot point: at each step, the points within the window in a
   // frame along the tape there give the local curvature (and correct the walk's position and
   // direction); the first change that holds for two windows is where the curvature changes.
-  const CurveModel origin{m->e_d_m, -m->e_theta_rad, m->curvature_1_m};
+  const CurveModel origin = model_of(*m);
   Eigen::Vector2d at = origin.foot_point();
   double heading = origin.heading_rad;
   double curvature = origin.curvature_1_m;
@@ -1459,8 +1464,7 @@ LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDet
 }
 
 PathMemory::Course PathMemory::course_of(const LineMeasurement& m) const {
-  const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
-  return Course{vehicle_.transform(model.foot_point()), vehicle_.yaw_rad - m.e_theta_rad,
+  return Course{vehicle_.transform(model_of(m).foot_point()), vehicle_.yaw_rad - m.e_theta_rad,
                 m.curvature_1_m, odometer_m_};
 }
 
@@ -1473,7 +1477,7 @@ LineMeasurement PathMemory::confirmed(const LineMeasurement& m) {
   const bool after_blind = frames_without_line_ > 0 && reported_at_m_ &&
                            odometer_m_ - *reported_at_m_ >= options_.confirm_after_blind_m;
   if (m.extrapolated && after_blind) {
-    const CurveModel seen{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
+    const CurveModel seen = model_of(m);
     bool agrees = false;
     if (unconfirmed_) {
       const CurveModel before = course_now(*unconfirmed_);
@@ -1655,13 +1659,12 @@ LineMeasurement PathMemory::with_course(const LineMeasurement& m) const {
 
 void PathMemory::remember_heading(const LineMeasurement& m) {
   tape_heading_rad_ = vehicle_.yaw_rad - m.e_theta_rad;  // e_theta = vehicle yaw - tape yaw
-  const CurveModel model{m.e_d_m, -m.e_theta_rad, m.curvature_1_m};
-  const bool runs_on =
+  Course course = course_of(m);
+  course.runs_on =
       last_course_ && std::abs(wrap_angle_rad(*tape_heading_rad_ - last_course_->heading_rad -
                                               turn_since_last_course_rad())) <=
                           options_.carry_forward_turn_margin_rad;
-  last_course_ = Course{vehicle_.transform(model.foot_point()), *tape_heading_rad_, m.curvature_1_m,
-                        odometer_m_, runs_on};
+  last_course_ = course;
   if (std::abs(m.curvature_1_m) >= options_.corner_min_curvature_1_m)
     last_corner_course_ = last_course_;
 }
@@ -1682,8 +1685,7 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   // (within a tape width), whichever way it turns there (the vehicle may have left an arc for the
   // line after it), or through the course's foot point now (within half a tape width: the tape
   // under the vehicle on either).
-  const CurveModel in_view{carried_back.e_d_m, -carried_back.e_theta_rad,
-                           carried_back.curvature_1_m};
+  const CurveModel in_view = model_of(carried_back);
   const Eigen::Vector2d last_foot = vehicle_.inverse().transform(last_course_->foot_m);
   const double width_m =
       std::min(std::max(tape_width_m_, kNarrowTape_m), options_.carry_forward_max_width_m);
