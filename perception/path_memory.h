@@ -148,8 +148,8 @@ struct PathMemoryOptions {
   // 25 mm of 54 mm tape just past a corner in agv evaluate) that would stay in the memory.
   double min_overlap_span_m = 0.04;
   double max_jump_m = 0.3;  // odometry that moves further between frames restarts the memory
-  // Across a gap in the remembered tape under the vehicle: the last gap_end_m of the tape
-  // before it and the first after it, the gap no longer than max_gap_m.
+  // Across a gap in the remembered tape under the vehicle: the tape within gap_end_m of its
+  // last point before the gap and of its first after it, the gap no longer than max_gap_m.
   double gap_end_m = 0.04;
   double max_gap_m = 0.3;
   // ... the tape's directions at its two ends this near, else the line through the end ahead,

@@ -223,6 +223,26 @@ TEST(SequenceBenchmark, TheLineAfterACornerIsNotBentByTheCornersEnd) {
   EXPECT_LE(line["max_abs_e_d_m"].get<double>(), 0.0012);
 }
 
+// agv evaluate --seed 43, sequence 5: a corner of R 0.10 m turning 114 deg, 53 mm tape, then an
+// S-bend (R 0.64 m turning back 43 deg). The camera never saw the corner's exit and the bend's
+// start: the memory bridges 0.25 m from the corner's end behind to the tape ahead. The end
+// behind was the tape within 40 mm along the frame, which past so tight a corner took in its
+// whole arc (running across the frame there): the quadratic through it turned the end's
+// direction by up to 20 deg from frame to frame, the bridge 14.6 mm / 15.4 deg off (1.90 mm /
+// 2.36 deg RMS). Taken within 40 mm of the end's last point: measured 0.36 mm / 0.41 deg RMS,
+// 1.8 mm / 3.6 deg at worst (a cubic between the ends' directions does not follow a tape that
+// bends both ways across the gap). Bounds: 0.6 mm / 0.6 deg RMS, 3 mm / 5 deg at worst.
+TEST(SequenceBenchmark, AGapPastATightCornerIsBridgedFromTheCornersEndNotItsWholeArc) {
+  const SequenceBenchmarkResult result = one_drive(43, 5);
+  SCOPED_TRACE("draw: " + result.sequence_texts.at(5));
+  EXPECT_GE(result.summary["found_fraction"].get<double>(), 0.99);
+  const nlohmann::json& after = result.summary["after_warm_up"];
+  EXPECT_LE(after["rms_e_d_m"].get<double>(), 0.0006);
+  EXPECT_LE(rad_to_deg(after["rms_e_theta_rad"].get<double>()), 0.6);
+  EXPECT_LE(after["max_abs_e_d_m"].get<double>(), 0.003);
+  EXPECT_LE(rad_to_deg(after["max_abs_e_theta_rad"].get<double>()), 5.0);
+}
+
 // agv evaluate --seed 6, sequence 9: a fork of 91 mm tape (the branch left, R 0.57 m) taken
 // straight on, 0.16 m under the camera. Its legs overlap for 0.3 m, where no chord is one tape
 // wide: a hole in the memory under the vehicle, across which the line in view carried back was
