@@ -1,12 +1,16 @@
 #include "perception/outlier_limit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include "perception/kth_smallest.h"
 
 namespace agv::perception {
+namespace {
+constexpr size_t kSortedUpTo = 64;
+}  // namespace
 
 double outlier_limit(const std::vector<double>& magnitudes, double outlier_sigmas) {
   return outlier_limit(magnitudes, {}, outlier_sigmas);
@@ -35,6 +39,22 @@ double outlier_limit(const std::vector<double>& magnitudes, const std::vector<do
   if (weights.empty()) {
     std::vector<double> scratch;
     median = kth_smallest(magnitudes.data(), magnitudes.size(), magnitudes.size() / 2, &scratch);
+  } else if (magnitudes.size() <= kSortedUpTo) {
+    // Few (a window of the path memory's preview): sorted on the stack, then the weights counted
+    // from the smallest until they exceed median_rank (the same magnitude as the selection below).
+    std::array<std::pair<double, double>, kSortedUpTo> pairs;  // (magnitude, weight)
+    for (size_t i = 0; i < magnitudes.size(); ++i) pairs[i] = {magnitudes[i], weight(i)};
+    auto by_magnitude = [](const auto& a, const auto& b) { return a.first < b.first; };
+    std::sort(pairs.begin(), pairs.begin() + magnitudes.size(), by_magnitude);
+    double below = 0.0;
+    if (!magnitudes.empty()) median = pairs[magnitudes.size() - 1].first;
+    for (size_t i = 0; i < magnitudes.size(); ++i) {
+      below += pairs[i].second;
+      if (below > median_rank) {
+        median = pairs[i].first;
+        break;
+      }
+    }
   } else {
     // The magnitude at which the weights counted from the smallest first exceed median_rank, by
     // selection: split at the middle, keep the part that holds that rank.

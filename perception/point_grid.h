@@ -41,14 +41,19 @@ class PointGrid {
     // Counted into each cell's slot, summed so that start_[k] is where cell k ends, then each
     // point placed just before its cell's end, which moves down, the last point first: start_[k]
     // is then where cell k begins, and each cell lists its points in index order.
+    // Each point's cell worked out once (its two divisions were most of the grid's cost).
     const size_t cells = static_cast<size_t>(columns_ * rows_);
     start_.assign(cells + 1, 0);
-    for (const Eigen::Vector2d& p : points) ++start_[slot(p)];
+    std::vector<std::uint32_t> slots(points.size());
+    for (size_t j = 0; j < points.size(); ++j) {
+      slots[j] = static_cast<std::uint32_t>(slot(points[j]));
+      ++start_[slots[j]];
+    }
     for (size_t k = 1; k < cells; ++k) start_[k] += start_[k - 1];
     start_[cells] = static_cast<std::uint32_t>(points.size());
     indices_.resize(points.size());
     for (size_t j = points.size(); j-- > 0;)
-      indices_[--start_[slot(points[j])]] = static_cast<std::uint32_t>(j);
+      indices_[--start_[slots[j]]] = static_cast<std::uint32_t>(j);
   }
 
   // The most cells of a dense grid for this many points (else every lookup scans them all).
