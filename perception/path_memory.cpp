@@ -1336,8 +1336,12 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     double along_m, leaving_offset_m;
     Eigen::Vector2d centre;
   };
-  std::vector<Candidate> candidates;
-  int other_side = 0;  // chords that look the same but leave on the other side
+  // The chords whose leg leaving the course is the one taken (its centre half a width in from
+  // its outer edge), and those whose leg leaving is the other (the one taken runs on along the
+  // course: its centre half a width in from its edge on the course's edge); with the counts of
+  // each before their centres are checked against the line in view.
+  std::vector<Candidate> taken_leaves, other_leaves;
+  int taken_leaving = 0, other_leaving = 0;
   const double slightly_wider_m =
       w + std::max(options_.overlap_slightly_wider_m, options_.overlap_slightly_wider * w);
   for (int index : line.chords) {
@@ -1374,24 +1378,31 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
         continue;
     }
     const double off_m = a_on ? db : da;
-    if ((off_m > 0.0) != chosen_left) {
-      ++other_side;
-      continue;
-    }
-    // The leaving leg's outer edge, moved half a width inwards across the course.
-    const Eigen::Vector2d& outer = a_on ? chord.b : chord.a;
-    const Eigen::Vector2d centre = outer - (off_m > 0.0 ? 0.5 : -0.5) * w * left;
+    const double towards_leaving = off_m > 0.0 ? 1.0 : -1.0;
+    const bool taken = (off_m > 0.0) == chosen_left;
+    // The leaving leg's outer edge moved half a width back across the course, or the edge on
+    // the course's edge moved half a width towards the leaving leg.
+    const Eigen::Vector2d centre =
+        taken ? Eigen::Vector2d((a_on ? chord.b : chord.a) - towards_leaving * 0.5 * w * left)
+              : Eigen::Vector2d((a_on ? chord.a : chord.b) + towards_leaving * 0.5 * w * left);
+    ++(taken ? taken_leaving : other_leaving);
     if (std::abs(model.signed_distance(centre)) > w) continue;
-    candidates.push_back({index, course.arc_position(chord.centre()), std::abs(off_m), centre});
+    (taken ? taken_leaves : other_leaves)
+        .push_back({index, course.arc_position(chord.centre()), std::abs(off_m), centre});
   }
-  // Most such chords leave on the chosen side (overlap_same_side of them, at least 3), and their
+  // Most such chords leave on one side (overlap_same_side of them, at least 3), and their
   // leaving edges run off the course as they go (the offsets' correlation with the distance
   // along it).
   constexpr size_t kMinChords = 3;
+  auto agree = [&](const std::vector<Candidate>& found, int leaving_elsewhere) {
+    const double agreeing = static_cast<double>(found.size());
+    return found.size() >= kMinChords &&
+           agreeing >= options_.overlap_same_side * (agreeing + leaving_elsewhere);
+  };
+  const bool taken_agree = agree(taken_leaves, other_leaving);
+  if (!taken_agree && !agree(other_leaves, taken_leaving)) return {};
+  const std::vector<Candidate>& candidates = taken_agree ? taken_leaves : other_leaves;
   const double agreeing = static_cast<double>(candidates.size());
-  if (candidates.size() < kMinChords ||
-      agreeing < options_.overlap_same_side * (agreeing + other_side))
-    return {};
   double mean_along = 0.0, mean_offset = 0.0;
   for (const Candidate& c : candidates) {
     mean_along += c.along_m / agreeing;

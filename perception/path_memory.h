@@ -119,11 +119,16 @@ struct PathMemoryOptions {
   // overlap_edge_tolerance tape widths of the course's edge and the other beyond the course's
   // other edge, spans the tape running on and a leg leaving on that side. Where that is the side
   // taken (BranchChoice left or right), the leaving leg's centre is half a width in from its outer
-  // edge. Taken only where such chords agree: overlap_same_side of them, at least 3, leave on the
-  // side taken, and their leaving edges run off the course as they go (correlation of the offset
-  // with the distance along it at least overlap_min_correlation); not a blotchy floor widening
-  // chords on either side (agv evaluate seed 9, sequence 6, 84 mm tape on a dark floor: 0.6 ->
-  // 4.6 mm RMS without these two tests). Not for the way straight on: one edge of worn tape
+  // edge; where the leg leaving is the other one (the way taken runs on along the course), the
+  // way taken's centre is half a width in from the chord's edge on the course's edge (agv
+  // evaluate seed 44 sequence 4, a fork of 88 mm tape taken right, its branch leaving left: those
+  // chords gave no evidence, the slightly wider ones their middles, and the branch was followed,
+  // 7.1 mm RMS over the fork; now 0.065 mm). Taken only where such chords agree:
+  // overlap_same_side of them, at least 3, leave on one side, and their leaving edges run off the
+  // course as they go (correlation of the offset with the distance along it at least
+  // overlap_min_correlation); not a blotchy floor widening chords on either side (agv evaluate
+  // seed 9, sequence 6, 84 mm tape on a dark floor: 0.6 -> 4.6 mm RMS without these two tests).
+  // Not for the way straight on (BranchChoice straight): one edge of worn tape
   // (datasets/yellow_junction_worn) put its centre 0.2-0.8 mm off, where the line in view carried
   // back was within 0.1 mm.
   // The overlap's first stretch: a clean chord (both edges on the line in view) wider than the

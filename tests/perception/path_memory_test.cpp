@@ -1954,9 +1954,12 @@ TEST(PathMemory, DeepInAHoleTheTapeOnBothSidesOfItGivesTheErrors) {
 // the fork (theta 0.2): 21 of them (every 4 mm; from 0.027 m the chords are wider than the tape
 // by more than overlap_slightly_wider, 0.6 mm; nearer the fork their midpoints, within 0.25 mm;
 // without the clean chords read so, those from 0.027 to 0.044 m lie 0.3-0.8 mm inside the
-// branch, at half its offset). Going straight on (kStraight) or taking the right (kRight),
+// branch, at half its offset). Taking the right (kRight), the way running on: its centre is
+// the right edge, on the course's, moved half a width across (on its centre line within 0.35 mm,
+// as above; those chords once gave nothing, the slightly wider ones their middles, and the
+// memory followed the branch: agv evaluate seed 44 sequence 4). Going straight on (kStraight),
 // nothing beyond the overlap's first stretch (one edge of worn tape is no surer than the line in
-// view). The same mirrored (the branch leaving to the right) for kRight and kStraight.
+// view). The same mirrored (the branch leaving to the right) for kRight, kLeft and kStraight.
 // Where the widening comes on either side at random, or on one side by random amounts that do
 // not grow along the tape (a blotchy floor beside it), nothing beyond it either.
 enum class Overlap { kBranchLeft, kBranchRight, kBlotchy, kBlotchyLeft };
@@ -2034,6 +2037,16 @@ TEST(PathMemory, WhereAForksLegsOverlapUnseenApartTheChosenLegIsRemembered) {
     }
     return checked;
   };
+  // The same against the straight tape's centre line (y = 0).
+  auto on_straight = [](const std::vector<Eigen::Vector2d>& points) {
+    int checked = 0;
+    for (const Eigen::Vector2d& p : points) {
+      if (p.x() < 0.027 || p.x() > 0.1205) continue;
+      EXPECT_NEAR(p.y(), 0.0, 3.5e-4) << p.transpose();
+      ++checked;
+    }
+    return checked;
+  };
   // Beyond the overlap's first stretch (0.05 m past the fork), nothing.
   auto none_beyond = [](const std::vector<Eigen::Vector2d>& points) {
     return std::none_of(points.begin(), points.end(),
@@ -2043,11 +2056,14 @@ TEST(PathMemory, WhereAForksLegsOverlapUnseenApartTheChosenLegIsRemembered) {
             21);
   EXPECT_TRUE(
       none_beyond(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kStraight)));
-  EXPECT_TRUE(none_beyond(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kRight)));
+  EXPECT_GE(on_straight(remembered_after_an_overlap(Overlap::kBranchLeft, BranchChoice::kRight)),
+            21);
   // Mirrored: the branch leaves to the right.
   EXPECT_GE(
       on_branch(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kRight), -0.6),
       21);
+  EXPECT_GE(on_straight(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kLeft)),
+            21);
   EXPECT_TRUE(
       none_beyond(remembered_after_an_overlap(Overlap::kBranchRight, BranchChoice::kStraight)));
   EXPECT_TRUE(none_beyond(remembered_after_an_overlap(Overlap::kBlotchy, BranchChoice::kLeft)));
