@@ -41,7 +41,7 @@ class PointGrid {
     // Counted into each cell's slot, summed so that start_[k] is where cell k ends, then each
     // point placed just before its cell's end, which moves down, the last point first: start_[k]
     // is then where cell k begins, and each cell lists its points in index order.
-    // Each point's cell worked out once (its two divisions were most of the grid's cost).
+    // Each point's cell (two divisions) worked out once, not once a pass.
     const size_t cells = static_cast<size_t>(columns_ * rows_);
     start_.assign(cells + 1, 0);
     std::vector<std::uint32_t> slots(points.size());
