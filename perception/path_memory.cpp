@@ -1322,11 +1322,15 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres(const LineDetection& de
 std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     const LineDetection& detection, std::vector<bool>* used) const {
   const double w = tape_width_m_;
-  if (!(w > 0.0) || !last_course_ || detection.branch == BranchChoice::kStraight) return {};
+  if (!(w > 0.0) || !last_course_) return {};
+  const bool straight = detection.branch == BranchChoice::kStraight;
   const bool chosen_left = detection.branch == BranchChoice::kLeft;
   const DetectedLine& line = detection.lines[detection.followed];
   const CurveModel::Prepared model = line.model.prepared();
-  const CurveModel::Prepared course = last_course_now().prepared();  // along the travel
+  CurveModel course_model = last_course_now();  // along the travel
+  if (straight && std::abs(course_model.curvature_1_m) < options_.straight_course_line_below_1_m)
+    course_model.curvature_1_m = 0.0;
+  const CurveModel::Prepared course = course_model.prepared();
   std::vector<bool> clean(detection.chords.size(), false);
   for (int index : line.clean_chords) clean[index] = true;
   const double wider_than_tape_m = (1.0 + options_.chord_width_tolerance) * w;
@@ -1335,13 +1339,15 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     int index;
     double along_m, leaving_offset_m;
     Eigen::Vector2d centre;
+    bool leaves_left;
   };
   // The chords whose leg leaving the course is the one taken (its centre half a width in from
   // its outer edge), and those whose leg leaving is the other (the one taken runs on along the
-  // course: its centre half a width in from its edge on the course's edge); with the counts of
-  // each before their centres are checked against the line in view.
+  // course: its centre half a width in from its edge on the course's edge; straight on, every
+  // leg leaving); with the counts of each, and of those leaving left, before their centres are
+  // checked against the line in view.
   std::vector<Candidate> taken_leaves, other_leaves;
-  int taken_leaving = 0, other_leaving = 0;
+  int taken_leaving = 0, other_leaving = 0, leaving_left = 0;
   const double slightly_wider_m =
       w + std::max(options_.overlap_slightly_wider_m, options_.overlap_slightly_wider * w);
   for (int index : line.chords) {
@@ -1379,16 +1385,18 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     }
     const double off_m = a_on ? db : da;
     const double towards_leaving = off_m > 0.0 ? 1.0 : -1.0;
-    const bool taken = (off_m > 0.0) == chosen_left;
+    const bool taken = !straight && (off_m > 0.0) == chosen_left;
     // The leaving leg's outer edge moved half a width back across the course, or the edge on
     // the course's edge moved half a width towards the leaving leg.
     const Eigen::Vector2d centre =
         taken ? Eigen::Vector2d((a_on ? chord.b : chord.a) - towards_leaving * 0.5 * w * left)
               : Eigen::Vector2d((a_on ? chord.a : chord.b) + towards_leaving * 0.5 * w * left);
     ++(taken ? taken_leaving : other_leaving);
+    if (off_m > 0.0) ++leaving_left;
     if (std::abs(model.signed_distance(centre)) > w) continue;
     (taken ? taken_leaves : other_leaves)
-        .push_back({index, course.arc_position(chord.centre()), std::abs(off_m), centre});
+        .push_back(
+            {index, course.arc_position(chord.centre()), std::abs(off_m), centre, off_m > 0.0});
   }
   // Most such chords leave on one side (overlap_same_side of them, at least 3), and their
   // leaving edges run off the course as they go (the offsets' correlation with the distance
@@ -1399,9 +1407,26 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     return found.size() >= kMinChords &&
            agreeing >= options_.overlap_same_side * (agreeing + leaving_elsewhere);
   };
-  const bool taken_agree = agree(taken_leaves, other_leaving);
-  if (!taken_agree && !agree(other_leaves, taken_leaving)) return {};
-  const std::vector<Candidate>& candidates = taken_agree ? taken_leaves : other_leaves;
+  std::vector<Candidate> one_side;
+  const std::vector<Candidate>* agreeing_chords = nullptr;
+  if (straight) {
+    // Straight on: the legs leaving on the side most leave on, against those on the other; not
+    // on the outside of an arc's bend.
+    const bool left = leaving_left >= other_leaving - leaving_left;
+    const double bend_1_m = course_model.curvature_1_m;
+    if (std::abs(bend_1_m) >= options_.straight_course_arc_from_1_m && (bend_1_m > 0.0) != left)
+      return {};
+    for (const Candidate& c : other_leaves)
+      if (c.leaves_left == left) one_side.push_back(c);
+    const int other_side = left ? other_leaving - leaving_left : leaving_left;
+    if (agree(one_side, other_side)) agreeing_chords = &one_side;
+  } else if (agree(taken_leaves, other_leaving)) {
+    agreeing_chords = &taken_leaves;
+  } else if (agree(other_leaves, taken_leaving)) {
+    agreeing_chords = &other_leaves;
+  }
+  if (!agreeing_chords) return {};
+  const std::vector<Candidate>& candidates = *agreeing_chords;
   const double agreeing = static_cast<double>(candidates.size());
   double mean_along = 0.0, mean_offset = 0.0;
   for (const Candidate& c : candidates) {
@@ -1416,6 +1441,19 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     s_oo += doff * doff;
   }
   if (!(s_ao > 0.0) || s_ao < options_.overlap_min_correlation * std::sqrt(s_aa * s_oo)) return {};
+  // Straight on (on every path, junction or none), not a widening here and there: the agreeing
+  // chords are most of the line's across the stretch they span.
+  if (straight) {
+    const auto [first, last] = std::minmax_element(
+        candidates.begin(), candidates.end(),
+        [](const Candidate& a, const Candidate& b) { return a.along_m < b.along_m; });
+    const double from_m = first->along_m, to_m = last->along_m;
+    const auto spanned = std::count_if(line.chords.begin(), line.chords.end(), [&](int index) {
+      const double along_m = course.arc_position(detection.chords[index].centre());
+      return along_m >= from_m && along_m <= to_m;
+    });
+    if (agreeing < options_.straight_min_coverage * static_cast<double>(spanned)) return {};
+  }
   std::vector<Eigen::Vector2d> centres;
   for (const Candidate& c : candidates) {
     centres.push_back(c.centre);

@@ -128,9 +128,23 @@ struct PathMemoryOptions {
   // course as they go (correlation of the offset with the distance along it at least
   // overlap_min_correlation); not a blotchy floor widening chords on either side (agv evaluate
   // seed 9, sequence 6, 84 mm tape on a dark floor: 0.6 -> 4.6 mm RMS without these two tests).
-  // Not for the way straight on (BranchChoice straight): one edge of worn tape
-  // (datasets/yellow_junction_worn) put its centre 0.2-0.8 mm off, where the line in view carried
-  // back was within 0.1 mm.
+  // The way straight on (BranchChoice straight) is read the same way: every leg leaving is the
+  // other one, and the chords taken are those leaving on the side most of them leave on (agv
+  // evaluate seeds 1-48: forks taken straight on, seed 31 sequence 4 3.08 -> 0.17 mm RMS, seed 25
+  // sequence 11 4.11 -> 1.26 mm). There, a course bending less than straight_course_line_below_1_m
+  // is taken as the line straight on: fitted over a few centimetres of straight tape it reads
+  // curvatures of up to 0.1 1/m where the vehicle weaves, 4.5 mm at 0.3 m ahead, more than the
+  // edge tolerance, and the tape running on looked like a leg leaving on the branch's other side
+  // (scenarios/dataset_yellow_junction.yaml: a frame 2.2 deg off). A course bending more than
+  // straight_course_arc_from_1_m (an arc just before the fork) is carried on round the arc, and
+  // legs leaving on the outside of its bend are not read: the course may run into a branch
+  // bending the same way, and the way straight on then looks like the leg leaving (seed 15
+  // sequence 2, an S-bend's arc of R 0.66 m ending at a fork whose branch bends the same way: the
+  // branch remembered, 40-60 mm off). Straight on is also the way on every path without a
+  // junction: there the agreeing chords must be at least straight_min_coverage of the followed
+  // line's chords across the stretch they span, as where a leg leaves (every scan across the
+  // overlap is wide); 14 mm tape on a light floor widened 3-10 mm at a few scan lines in a
+  // row, here and there, made 2-17 % of them (seed 18 sequence 7: 13 frames more without a line).
   // The overlap's first stretch: a clean chord (both edges on the line in view) wider than the
   // tape by more than overlap_slightly_wider tape widths (and overlap_slightly_wider_m), whose
   // edge nearer the course's edge lies on it and whose other edge lies beyond the other edge,
@@ -143,6 +157,9 @@ struct PathMemoryOptions {
   double overlap_edge_tolerance = 0.1;
   double overlap_same_side = 0.9;
   double overlap_min_correlation = 0.7;
+  double straight_course_line_below_1_m = 0.15;  // R 6.7 m
+  double straight_course_arc_from_1_m = 0.6;     // R 1.7 m
+  double straight_min_coverage = 0.5;
   int relatch_frames = 20;  // ... or the line's width, where it shows one other, no chord taken,
                             //     on this many frames more than those showing a third width
   double gate_m = 0.003;           // remembered points this near the tape in view are the same tape
