@@ -2003,7 +2003,8 @@ std::vector<Eigen::Vector2d> remembered_after_an_overlap(Overlap overlap, Branch
       }
     }
     if (overlap == Overlap::kPatches) {
-      const bool near_patch = x > 0.281 && x<0.291, far_patch = x> 0.357 && x < 0.367;
+      const bool near_patch = x > 0.281 && x < 0.291;
+      const bool far_patch = x > 0.357 && x < 0.367;
       left = 0.5 * w + (near_patch ? 0.004 : far_patch ? 0.007 : 0.0);
       right = -0.5 * w - (near_patch || far_patch ? 0.001 : 0.0);
     }
