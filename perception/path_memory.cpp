@@ -1407,19 +1407,17 @@ std::vector<Eigen::Vector2d> PathMemory::overlap_centres_along_course(
     return found.size() >= kMinChords &&
            agreeing >= options_.overlap_same_side * (agreeing + leaving_elsewhere);
   };
-  std::vector<Candidate> one_side;
   const std::vector<Candidate>* agreeing_chords = nullptr;
   if (straight) {
     // Straight on: the legs leaving on the side most leave on, against those on the other; not
     // on the outside of an arc's bend.
-    const bool left = leaving_left >= other_leaving - leaving_left;
+    const int leaving_right = other_leaving - leaving_left;
+    const bool left = leaving_left >= leaving_right;
     const double bend_1_m = course_model.curvature_1_m;
     if (std::abs(bend_1_m) >= options_.straight_course_arc_from_1_m && (bend_1_m > 0.0) != left)
       return {};
-    for (const Candidate& c : other_leaves)
-      if (c.leaves_left == left) one_side.push_back(c);
-    const int other_side = left ? other_leaving - leaving_left : leaving_left;
-    if (agree(one_side, other_side)) agreeing_chords = &one_side;
+    std::erase_if(other_leaves, [left](const Candidate& c) { return c.leaves_left != left; });
+    if (agree(other_leaves, left ? leaving_right : leaving_left)) agreeing_chords = &other_leaves;
   } else if (agree(taken_leaves, other_leaving)) {
     agreeing_chords = &taken_leaves;
   } else if (agree(other_leaves, taken_leaving)) {
