@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "common/angles.h"
+#include "perception/corner_fillet.h"
 #include "perception/joined_arcs_fit.h"
 #include "perception/point_grid.h"
 
@@ -350,6 +351,7 @@ void PathMemory::reset() {
   frames_without_line_ = 0;
   last_corner_course_.reset();
   read_off_corner_ = false;
+  read_across_corner_ = false;
 }
 
 std::vector<Eigen::Vector2d> PathMemory::points_in_vehicle_frame() const {
@@ -655,12 +657,18 @@ bool PathMemory::straight_after_turn() const {
 }
 
 std::optional<LineMeasurement> PathMemory::across_gap(
-    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle) const {
-  // Only just after a corner passed on the memory alone, or a turn driven with the tape in view.
+    const LineMeasurement& in_view, const std::vector<Eigen::Vector2d>& in_vehicle,
+    bool corner_in_gap) const {
+  // Just after a corner passed on the memory alone, or a turn driven with the tape in view; or
+  // (corner_in_gap) at neither, inside a corner never seen whole whose way out is the line in
+  // view.
   const bool after_corner =
       corner_passed_at_m_ && odometer_m_ - *corner_passed_at_m_ <= options_.bridge_after_corner_m;
-  if (!after_corner && !straight_after_turn()) return std::nullopt;
-  const double band_m = after_corner ? options_.window_across_m : options_.bridge_band_m;
+  if (corner_in_gap != (!after_corner && !straight_after_turn())) return std::nullopt;
+  if (corner_in_gap && (!in_view.line_found || !(options_.corner_gap_view_turn_rad > 0.0)))
+    return std::nullopt;
+  const double band_m =
+      after_corner || corner_in_gap ? options_.window_across_m : options_.bridge_band_m;
   // In a frame along the remembered tape's direction at the origin (else the vehicle's): the
   // tape nearest behind the origin and nearest ahead of it, each over gap_end_m.
   const double frame_rad =
@@ -745,6 +753,36 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   // it meets the end behind within max_gap_offset_m.
   const bool agree =
       std::abs(std::atan(ahead[1]) - std::atan(behind[1])) <= options_.max_gap_turn_rad;
+  if (corner_in_gap) {
+    // The ends turn by more than max_gap_turn_rad (else no corner), and the line in view runs
+    // on from the end ahead (else that end may be another leg's, or not yet the way out).
+    if (agree || !(x0 < 0.0 && 0.0 < x1) || !last_course_ ||
+        odometer_m_ - last_course_->odometer_m > options_.max_gap_m)
+      return std::nullopt;
+    // Whether `curve` passes through the end at x (frame y = c[0], slope c[1]) within
+    // corner_gap_view_offset_m, running in its direction within corner_gap_view_turn_rad.
+    const Turn to_vehicle(frame_rad + chord_rad);
+    auto runs_through = [&](const CurveModel& curve, double x, const Eigen::Vector3d& c) {
+      const CurveModel::Prepared prepared = curve.prepared();
+      const Eigen::Vector2d end = to_vehicle(Eigen::Vector2d(x, c[0]));
+      const Eigen::Vector2d d = prepared.unit_direction_at(end);
+      return std::abs(prepared.signed_distance(end)) <= options_.corner_gap_view_offset_m &&
+             std::abs(wrap_angle_rad(std::atan2(d.y(), d.x()) - frame_rad - chord_rad -
+                                     std::atan(c[1]))) <= options_.corner_gap_view_turn_rad;
+    };
+    // The way in on the course measured under the vehicle before the corner (the frames after
+    // that read across the corner measured their own), the way out on the line in view.
+    if ((!read_across_corner_ && !runs_through(last_course_now(), x0, behind)) ||
+        !runs_through(model_of(in_view), x1, ahead))
+      return std::nullopt;
+    // The corner's arc tangent to the way in and the way out (a cubic across a 90 deg corner of
+    // R 0.11 m lies up to 4.9 mm off it).
+    const std::optional<CurveModel> fillet = corner_fillet(
+        to_vehicle(Eigen::Vector2d(x0, behind[0])), frame_rad + chord_rad + std::atan(behind[1]),
+        to_vehicle(Eigen::Vector2d(x1, ahead[0])), frame_rad + chord_rad + std::atan(ahead[1]));
+    if (!fillet || runs_against_the_vehicle(*fillet)) return std::nullopt;
+    return with_model(in_view, *fillet);
+  }
   // The origin in the frame is x = 0 (a rotation about it); beyond either end, that end's own.
   double y, slope, second;
   if (const std::optional<Eigen::Vector3d> line =
@@ -1615,12 +1653,21 @@ LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetec
   std::optional<LineMeasurement> m = at_origin(in_view, in_vehicle);
   if (!m) m = across_gap(in_view, in_vehicle);
   if (!m) m = through_gap(in_view, in_vehicle);
-  bool off_corner = false;
-  if (!m) {
+  // Inside a corner never seen whole: after around_corner (a corner whose arc was measured in
+  // part is that arc's: seed 8, sequence 11, 84 mm tape, 1.0 -> 2.9 mm read across it first),
+  // except from the frame read across it on (the course that reading left is no arc measured,
+  // for around_corner to carry on: seed 45, sequence 9, 0.5 -> 2.6 mm).
+  bool off_corner = false, across_corner = false;
+  if (!m && !read_across_corner_) {
     m = around_corner(in_view, in_vehicle);
     off_corner = m.has_value();
   }
+  if (!m) {
+    m = across_gap(in_view, in_vehicle, true);
+    across_corner = m.has_value();
+  }
   read_off_corner_ = off_corner;
+  read_across_corner_ = across_corner;
   if (!m) {
     // Not yet on remembered tape: what is remembered nearest ahead, carried back.
     if (std::optional<LineMeasurement> ahead =

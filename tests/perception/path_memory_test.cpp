@@ -1171,6 +1171,19 @@ struct WindowDrive {
   int frames = 0, lost = 0, extrapolated = 0;
   double max_e_d_error_m = 0.0, max_e_theta_error_rad = 0.0;  // frames with a line
   int extrapolated_within_half_mm = 0;  // extrapolated frames within 0.5 mm of the truth
+
+  // Counts a frame's reading against the truth.
+  void add(const LineMeasurement& m, const control::TrackingError& truth) {
+    ++frames;
+    if (!m.line_found) {
+      ++lost;
+      return;
+    }
+    extrapolated += m.extrapolated ? 1 : 0;
+    keep_worst(m, truth, &max_e_d_error_m, &max_e_theta_error_rad);
+    if (m.extrapolated && std::abs(m.e_d_m - truth.e_d_m) <= 0.0005)
+      ++extrapolated_within_half_mm;
+  }
 };
 // The tape `width_m` wide; with `view_as_seen`, the line in view carried back is the tape in the
 // window extended to the vehicle (a corner's outgoing leg, when that is all the window shows),
@@ -1226,16 +1239,7 @@ WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_
       }
     }
     const LineMeasurement m = memory.update(seen, d, vehicle);
-    if (s < 0.3) continue;  // the memory's warm-up
-    ++r.frames;
-    if (!m.line_found) {
-      ++r.lost;
-      continue;
-    }
-    r.extrapolated += m.extrapolated ? 1 : 0;
-    keep_worst(m, truth, &r.max_e_d_error_m, &r.max_e_theta_error_rad);
-    if (m.extrapolated && std::abs(m.e_d_m - truth.e_d_m) <= 0.0005)
-      ++r.extrapolated_within_half_mm;
+    if (s >= 0.3) r.add(m, truth);  // after the memory's warm-up
   }
   return r;
 }
@@ -1394,6 +1398,72 @@ TEST(PathMemory, AWideCornersOutgoingLegInViewIsNoMoreTakenForTheTapeUnderTheVeh
     const WindowDrive joined = drive_window({}, 0.2, 112.0, width_m, true);
     EXPECT_EQ(joined.lost, 0);
     EXPECT_LE(joined.max_e_d_error_m, 0.0015);
+  }
+}
+
+// A corner of R 0.11 m (as agv evaluate seed 45, sequence 9 has) turning `turn_deg`, 0.6 m
+// along a line, its whole arc never seen (worn away here; under a camera that sees such a corner
+// as two legs meeting, the chords near it are neither leg's), the tape seen along the path
+// 0.17-0.43 m ahead (seen_from), and the line in view the tape farthest ahead that is seen, as a
+// line carried back to the vehicle (inside the corner: the way out).
+double tight_corner_arc_from_m = 0.0, tight_corner_arc_to_m = 0.0;
+bool off_the_tight_corners_arc(double s_m) {
+  return s_m < tight_corner_arc_from_m || s_m > tight_corner_arc_to_m;
+}
+WindowDrive drive_tight_corner(const PathMemoryOptions& options, double turn_deg) {
+  constexpr double kCorner_m = 0.6, kRadius_m = 0.11;
+  const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0})
+                                 .add_line(kCorner_m)
+                                 .add_arc(kRadius_m, deg_to_rad(turn_deg))
+                                 .add_line(1.0);
+  tight_corner_arc_from_m = kCorner_m - 0.005;
+  tight_corner_arc_to_m = kCorner_m + kRadius_m * deg_to_rad(std::abs(turn_deg)) + 0.005;
+  PathMemory memory(options);
+  WindowDrive r;
+  for (int k = 0; k < 90; ++k) {
+    const double s = 0.05 + 0.01 * k;
+    const Pose2 vehicle{path.point_at(s).x(), path.point_at(s).y(), path.heading_at(s)};
+    const control::TrackingError truth =
+        path.tracking_error(vehicle, path.project(vehicle.translation(), s, 0.05));
+    const LineDetection seen =
+        seen_from(path, vehicle, s, nullptr, 0.004, off_the_tight_corners_arc);
+    const double s_far = off_the_tight_corners_arc(s + 0.43) ? s + 0.43 : tight_corner_arc_from_m;
+    const CurveModel view =
+        curve_through_point(vehicle.inverse().transform(path.point_at(s_far)),
+                            wrap_angle_rad(path.heading_at(s_far) - vehicle.yaw_rad), 0.0);
+    LineMeasurement in_view;
+    in_view.line_found = true;
+    in_view.e_d_m = view.e_d_m;
+    in_view.e_theta_rad = -view.heading_rad;
+    const LineMeasurement m = memory.update(in_view, seen, vehicle);
+    if (s >= 0.3) r.add(m, truth);  // after the memory's warm-up
+  }
+  return r;
+}
+
+// Inside the corner, the arc tangent to the way in (remembered behind) and the way out (ahead,
+// the line in view running on from it) gives the errors. Here both ends of what was seen lie 5 mm
+// along their lines from the arc, so that arc is wider than the corner's by 5 mm /
+// tan(turn / 2) (R 0.121 m for 50 deg, 0.115 m for 90), its middle (sec(turn / 2) - 1) times
+// that further out (1.1 and 2.1 mm), and its ends 5 mm late on the lines (2.6 deg of the
+// corner's turn there): bounds 1.5 mm / 3.5 deg and 2.5 mm / 6 deg (measured 1.33 mm / 2.80 deg
+// and 2.16 mm / 5.21 deg). Without it (corner_gap_view_turn_rad 0), the way out carried back from
+// the view: 13.9 mm / 29.2 deg and 36.9 mm / 48.3 deg (at least 10 mm / 25 deg here).
+TEST(PathMemory, InsideATightCornerNeverSeenWholeTheWayInAndTheWayOutAreJoined) {
+  PathMemoryOptions off;
+  off.corner_gap_view_turn_rad = 0.0;
+  struct Corner {
+    double turn_deg, bound_m, bound_deg;
+  };
+  for (const Corner& corner :
+       {Corner{50.0, 0.0015, 3.5}, {-50.0, 0.0015, 3.5}, {90.0, 0.0025, 6.0}}) {
+    const WindowDrive joined = drive_tight_corner({}, corner.turn_deg);
+    EXPECT_EQ(joined.lost, 0) << corner.turn_deg;
+    EXPECT_LE(joined.max_e_d_error_m, corner.bound_m) << corner.turn_deg;
+    EXPECT_LE(rad_to_deg(joined.max_e_theta_error_rad), corner.bound_deg) << corner.turn_deg;
+    const WindowDrive carried = drive_tight_corner(off, corner.turn_deg);
+    EXPECT_GE(carried.max_e_d_error_m, 0.01) << corner.turn_deg;
+    EXPECT_GE(rad_to_deg(carried.max_e_theta_error_rad), 25.0) << corner.turn_deg;
   }
 }
 

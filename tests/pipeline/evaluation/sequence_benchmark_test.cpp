@@ -294,6 +294,22 @@ TEST(SequenceBenchmark, StraightOnPastAnArcBendingLikeTheBranchTheBranchIsNotRem
   EXPECT_LE(fork["max_abs_e_d_m"].get<double>(), 0.01);
 }
 
+// agv evaluate --seed 45, sequence 9: a corner of R 0.11 m turning 50 deg left, approached on a
+// line, 15 mm tape, the camera 0.22 m up: the camera saw the corner as two legs meeting, the memory
+// has the way in and the way out and nothing between them. Inside the corner the way out was
+// carried back from the view, or the way in carried forward (the corner's frames 3.3 mm RMS, 13.1
+// mm and 28.9 deg at worst). The arc tangent to both (PathMemoryOptions::corner_gap_view_turn_rad)
+// reads them: measured 0.38 / 0.93 mm, 2.5 deg at worst (the arc from the ends widened by
+// what was not seen of the lines next to it). Bounds: 1 mm RMS, 2 mm and 5 deg at worst.
+TEST(SequenceBenchmark, InsideATightCornerNeverSeenWholeTheArcJoiningItsLegsIsRead) {
+  const SequenceBenchmarkResult result = one_drive(45, 9);
+  SCOPED_TRACE("draw: " + result.sequence_texts.at(9));
+  const nlohmann::json& corner = result.summary["by_piece"]["corner"];
+  EXPECT_LE(corner["rms_e_d_m"].get<double>(), 0.001);
+  EXPECT_LE(corner["max_abs_e_d_m"].get<double>(), 0.002);
+  EXPECT_LE(rad_to_deg(corner["max_abs_e_theta_rad"].get<double>()), 5.0);
+}
+
 // agv evaluate --seed 6, sequence 9: a fork of 91 mm tape (the branch left, R 0.57 m) taken
 // straight on, 0.16 m under the camera. Its legs overlap for 0.3 m, where no chord is one tape
 // wide: a hole in the memory under the vehicle, across which the line in view carried back was
