@@ -754,8 +754,9 @@ std::optional<LineMeasurement> PathMemory::across_gap(
   const bool agree =
       std::abs(std::atan(ahead[1]) - std::atan(behind[1])) <= options_.max_gap_turn_rad;
   if (corner_in_gap) {
-    // The ends turn by more than max_gap_turn_rad (else no corner), and the line in view runs
-    // on from the end ahead (else that end may be another leg's, or not yet the way out).
+    // The ends turn by more than max_gap_turn_rad (else no corner) with the origin between
+    // them, the end behind lies on the course measured before the corner and the end ahead on
+    // the line in view (else one of them may be another leg's, or not yet the way out).
     if (agree || !(x0 < 0.0 && 0.0 < x1) || !last_course_ ||
         odometer_m_ - last_course_->odometer_m > options_.max_gap_m)
       return std::nullopt;
@@ -770,8 +771,8 @@ std::optional<LineMeasurement> PathMemory::across_gap(
              std::abs(wrap_angle_rad(std::atan2(d.y(), d.x()) - frame_rad - chord_rad -
                                      std::atan(c[1]))) <= options_.corner_gap_view_turn_rad;
     };
-    // The way in on the course measured under the vehicle before the corner (the frames after
-    // that read across the corner measured their own), the way out on the line in view.
+    // (The frames after one read across the corner checked the end behind against the course
+    // before the corner; their own course is the arc's.)
     if ((!read_across_corner_ && !runs_through(last_course_now(), x0, behind)) ||
         !runs_through(model_of(in_view), x1, ahead))
       return std::nullopt;
