@@ -27,6 +27,8 @@ std::optional<CurveModel> corner_fillet(const Eigen::Vector2d& in_m, double in_h
   const Eigen::Vector2d meet = in_m + d_in * u_in;
   const double tangent_m = std::min(d_in, d_out);
   const double radius_m = tangent_m / std::tan(0.5 * std::abs(turn_rad));
+  constexpr double kLeastRadius_m = 1e-4;  // a mitred corner's point: no arc to read
+  if (!(radius_m >= kLeastRadius_m)) return std::nullopt;
   const Eigen::Vector2d start = meet - tangent_m * u_in, end = meet + tangent_m * u_out;
   const double side = turn_rad > 0.0 ? 1.0 : -1.0;  // the centre: left of a left turn
   const Eigen::Vector2d centre = start + side * radius_m * Eigen::Vector2d(-u_in.y(), u_in.x());

@@ -14,7 +14,8 @@ namespace agv::perception {
 // that side reaching the arc; the other side's unseen stretch up to the arc straight). Returns the
 // piece nearest the vehicle origin as the model of the origin's foot point on it (the arc's
 // curvature on the arc, none on the lines); nullopt where the lines do not meet ahead of the
-// point in and behind the point out, or turn by less than 1 deg or more than 179 deg.
+// point in and behind the point out, turn by less than 1 deg or more than 179 deg, or the arc's
+// radius is under 0.1 mm (a point seen at the corner itself).
 std::optional<CurveModel> corner_fillet(const Eigen::Vector2d& in_m, double in_heading_rad,
                                         const Eigen::Vector2d& out_m, double out_heading_rad);
 

@@ -79,8 +79,11 @@ TEST(CornerFillet, EndsShortOfTheArcWidenIt) {
   EXPECT_LT(worst_m, 0.005);
 }
 
-// Lines that meet behind the point in (the points past each other), or hardly turn: none.
+// Lines that meet behind the point in (the points past each other), hardly turn, or meet at the
+// point in all but a micrometre (no arc worth the name, whose centre the origin could lie on):
+// none.
 TEST(CornerFillet, NoneWhereTheLinesDoNotMeetBetweenThePoints) {
+  EXPECT_FALSE(corner_fillet({-1e-6, 0.0}, 0.0, {0.0, 0.1}, M_PI / 2.0).has_value());
   EXPECT_FALSE(corner_fillet({0.1, 0.0}, 0.0, {0.0, 0.1}, M_PI / 2.0).has_value());
   EXPECT_FALSE(corner_fillet({0.0, 0.0}, 0.0, {0.2, 0.001}, deg_to_rad(0.5)).has_value());
   EXPECT_FALSE(corner_fillet({0.0, 0.0}, 0.0, {-0.1, 0.0}, M_PI).has_value());
