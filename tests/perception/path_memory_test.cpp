@@ -1645,10 +1645,11 @@ CrossingDrive drive_past_another_tape(const PathMemoryOptions& options) {
 // forward from where it was last measured rather than the other tape carried back: every frame
 // with the other tape in view within 1 mm / 1 deg of the truth (the arc goes on as it was
 // measured, to the fit's 0.2 mm / 0.2 deg here, and as far as the corner's end, 0.17 m on;
-// measured 0.43 mm / 0.23 deg). Past the corner the way out, once in view, is taken again (it
-// passes through the arc's last foot point, or near the arc carried forward): within 0.5 mm (the
-// arc carried on past its end is 3 mm off 30 mm later). Without (carry_forward_m 0), frames report
-// the other tape, 0.2 m and more off.
+// measured 0.81 mm / 0.46 deg: on this exact odometry the corner's evidence moves the distance
+// error's estimate to -0.13 %, which misplaces the arc along the tape). Past the corner the way
+// out, once in view, is taken again (it passes through the arc's last foot point, or near the
+// arc carried forward): within 0.5 mm (the arc carried on past its end is 3 mm off 30 mm
+// later). Without (carry_forward_m 0), frames report the other tape, 0.2 m and more off.
 TEST(PathMemory, InsideASharpCornerAnotherTapeInViewDoesNotReplaceTheArc) {
   const CrossingDrive r = drive_past_another_tape({});
   EXPECT_GE(r.carried_forward, 10);
