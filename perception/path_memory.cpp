@@ -214,6 +214,16 @@ constexpr double kNarrowTape_m = 0.01;
 // Remembered points along the tape further apart than this leave a gap between them.
 constexpr double kContiguous_m = 0.01;
 
+// Whether `curve` passes p within near_m, running within max_turn_rad of heading_rad there
+// (vehicle frame; an infinite max_turn_rad: whichever way it runs).
+bool passes_along(const CurveModel::Prepared& curve, const Eigen::Vector2d& p, double heading_rad,
+                  double near_m, double max_turn_rad) {
+  if (std::abs(curve.signed_distance(p)) > near_m) return false;
+  if (std::isinf(max_turn_rad)) return true;
+  const Eigen::Vector2d d = curve.unit_direction_at(p);
+  return std::abs(wrap_angle_rad(std::atan2(d.y(), d.x()) - heading_rad)) <= max_turn_rad;
+}
+
 // Whether the tape a model of the remembered tape puts under the vehicle runs more than 90 deg
 // from the vehicle's heading: the vehicle drives along its tape, so such a reading (a fit in a
 // corner's window, tight enough that its foot point lies round the bend: agv evaluate seed 12,
@@ -764,12 +774,9 @@ std::optional<LineMeasurement> PathMemory::across_gap(
     // corner_gap_view_offset_m, running in its direction within corner_gap_view_turn_rad.
     const Turn to_vehicle(frame_rad + chord_rad);
     auto runs_through = [&](const CurveModel& curve, double x, const Eigen::Vector3d& c) {
-      const CurveModel::Prepared prepared = curve.prepared();
-      const Eigen::Vector2d end = to_vehicle(Eigen::Vector2d(x, c[0]));
-      const Eigen::Vector2d d = prepared.unit_direction_at(end);
-      return std::abs(prepared.signed_distance(end)) <= options_.corner_gap_view_offset_m &&
-             std::abs(wrap_angle_rad(std::atan2(d.y(), d.x()) - frame_rad - chord_rad -
-                                     std::atan(c[1]))) <= options_.corner_gap_view_turn_rad;
+      return passes_along(curve.prepared(), to_vehicle(Eigen::Vector2d(x, c[0])),
+                          frame_rad + chord_rad + std::atan(c[1]),
+                          options_.corner_gap_view_offset_m, options_.corner_gap_view_turn_rad);
     };
     // (The frames after one read across the corner checked the end behind against the course
     // before the corner; their own course is the arc's.)
@@ -1795,10 +1802,9 @@ std::optional<LineMeasurement> PathMemory::carried_forward(
   // Whether the line in view passes p within `near_m`, running within max_turn_rad of heading_rad
   // (vehicle frame) there where the course ran on from the one before it.
   auto continues = [&](const Eigen::Vector2d& p, double near_m, double heading_rad) {
-    const Eigen::Vector2d d = view.unit_direction_at(p);
-    return std::abs(view.signed_distance(p)) <= near_m &&
-           (!last_course_->runs_on ||
-            std::abs(wrap_angle_rad(std::atan2(d.y(), d.x()) - heading_rad)) <= max_turn_rad);
+    return passes_along(
+        view, p, heading_rad, near_m,
+        last_course_->runs_on ? max_turn_rad : std::numeric_limits<double>::infinity());
   };
   if (continues(last_foot, width_m, last_course_->heading_rad - vehicle_.yaw_rad) ||
       continues(course.foot_point(), 0.5 * width_m, course.heading_rad))
