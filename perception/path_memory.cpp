@@ -150,12 +150,6 @@ class EvidenceIndex {
     ata << s[0], s[1], s[2], s[1], s[2], s[3], s[2], s[3], s[4];
     const Eigen::Vector3d aty(sn[0], sn[1], sn[2]);
     const Eigen::Vector3d to_metres(1.0, 1.0 / unit_m, 1.0 / (unit_m * unit_m));
-    // The line in view's bend: its curvature turns its own direction to the left, and the normal
-    // here lies to the right of the tangent, so a left turn along the tangent bends towards
-    // -normal.
-    const double along = course.tangent.dot(prepared_line_.direction_at(mean));
-    const double line_bend_u =
-        -0.5 * line_.curvature_1_m * (along >= 0.0 ? 1.0 : -1.0) * unit_m * unit_m;
     if (near.size() >= kMinPointsForBend && conditioning(ata) > kMinBendCondition) {
       const Eigen::LDLT<Eigen::Matrix3d> ldlt(ata);
       if (ldlt.info() == Eigen::Success) {
@@ -163,8 +157,13 @@ class EvidenceIndex {
         return course;
       }
     }
-    // Else the offset and slope that fit the points with the line's bend (rows (1, u)).
-    course.n_of_t[2] = line_bend_u / (unit_m * unit_m);
+    // Else the line in view's bend: its curvature turns its own direction to the left, and the
+    // normal here lies to the right of the tangent, so a left turn along the tangent bends
+    // towards -normal. Then the offset and slope that fit the points with that bend (rows
+    // (1, u)).
+    const double along = course.tangent.dot(prepared_line_.direction_at(mean));
+    course.n_of_t[2] = -0.5 * line_.curvature_1_m * (along >= 0.0 ? 1.0 : -1.0);
+    const double line_bend_u = course.n_of_t[2] * unit_m * unit_m;
     const Eigen::Matrix2d ata2 = ata.topLeftCorner<2, 2>();
     const Eigen::Vector2d aty2(sn[0] - line_bend_u * s[2], sn[1] - line_bend_u * s[3]);
     if (conditioning(ata2) > 1e-9) {
