@@ -395,6 +395,8 @@ void PathMemory::reset() {
   recent_headings_.clear();
   last_course_.reset();
   last_reading_.reset();
+  view_.reset();
+  view_before_.reset();
   reported_at_m_.reset();
   unconfirmed_.reset();
   frames_without_line_ = 0;
@@ -1671,6 +1673,8 @@ LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetec
   }
   odometry_kind_ = kind;
   recent_headings_.emplace_back(odometer_m_, vehicle_.yaw_rad);
+  view_before_ = std::exchange(
+      view_, in_view.line_found ? std::optional<Course>(course_of(in_view)) : std::nullopt);
   while (odometer_m_ - recent_headings_.front().first > options_.bridge_after_corner_m)
     recent_headings_.pop_front();
   if (!in_view.line_found) return remembered_only(in_view, detection);
@@ -1789,9 +1793,15 @@ std::optional<double> PathMemory::offset_from_recent_reading_m(const LineMeasure
 }
 
 std::optional<LineMeasurement> PathMemory::reading_held(const LineMeasurement& carried_back) const {
-  const std::optional<double> offset_m = offset_from_recent_reading_m(carried_back);
-  if (!last_reading_confirmed_ || !offset_m || *offset_m <= options_.hold_course_offset_m)
+  if (!last_reading_confirmed_ || !last_reading_) return std::nullopt;
+  const double since_m = odometer_m_ - last_reading_->odometer_m;
+  const double offset_m = std::abs(carried_back.e_d_m - course_now(*last_reading_).e_d_m);
+  if (since_m > options_.hold_unsteady_view_m || offset_m <= options_.hold_course_offset_m)
     return std::nullopt;
+  const bool view_jumps =
+      view_before_ && std::abs(carried_back.e_d_m - course_now(*view_before_).e_d_m) >
+                          options_.hold_course_offset_m;
+  if (since_m > options_.hold_reading_m && !view_jumps) return std::nullopt;
   LineMeasurement held = with_model(carried_back, course_now(*last_reading_));
   held.extrapolated = true;
   return held;

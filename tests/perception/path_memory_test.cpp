@@ -708,6 +708,31 @@ TEST(PathMemory, TheReadingIsHeldWhereTheLineInViewJumpsAsideInTheWarmUp) {
   EXPECT_NEAR(warm_up_with_a_jump(no_hold, false)[10].e_d_m, 0.25, 1e-9);
 }
 
+// The same warm-up, the line in view jumping from frame to frame from s = 0.10 m (0.25 m to one
+// side, 0.19 m to the other: a shadow's edge, then a stray band): no tape is seen steadily
+// elsewhere, and the reading before is held on up to hold_unsteady_view_m from it, not only
+// hold_reading_m (agv evaluate seed 18, sequence 4: a third such frame, 30 mm off, read from the
+// view); beyond that, the line in view. (Up to s = 0.16 m: from 0.17 m the tape first seen lies
+// under the vehicle.)
+TEST(PathMemory, TheReadingIsHeldWhileTheLineInViewKeepsJumping) {
+  const auto jumping = [](const PathMemoryOptions& options) {
+    return along_straight_tape(options, 16, [](int k) {
+      return k < 10 ? line_in_view() : line_in_view(k % 2 == 0 ? 0.25 : -0.19, 0.3);
+    });
+  };
+  const auto held = [](const LineMeasurement& m) {
+    return m.line_found && m.extrapolated && std::abs(m.e_d_m) <= 1e-6;
+  };
+  const std::vector<LineMeasurement> readings = jumping({});
+  for (int k = 10; k <= 16; ++k) EXPECT_TRUE(held(readings[k])) << k;
+  PathMemoryOptions five_cm;
+  five_cm.hold_unsteady_view_m = 0.05;
+  const std::vector<LineMeasurement> shorter = jumping(five_cm);
+  for (int k = 10; k <= 13; ++k) EXPECT_TRUE(held(shorter[k])) << k;
+  EXPECT_NEAR(shorter[15].e_d_m, -0.19, 1e-9);
+  EXPECT_NEAR(shorter[16].e_d_m, 0.25, 1e-9);
+}
+
 // The same warm-up, the line lost at s = 0.06-0.08 m and the first line after the gap aside
 // (0.25 m): that reading is unconfirmed (nothing before it to agree with), and the right line
 // in view the frame after is taken, not held off by it (agv evaluate seed 27, sequence 9: held,
