@@ -476,15 +476,28 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
     size_t k;
     cv::Vec3d d;
   };
+  // The tape must stand out from the floor by this many levels along an axis.
+  constexpr double kMinContrast = 20.0;
   std::vector<Scored> scored;
   cv::Mat response, best_response;  // the best candidate's, kept (the first of equal scores)
   double best_score = 0.0;
+  // With the tape's colour given, only axes along which that colour stands out from the floor
+  // the way the tape does: the others make the floor beside a tape filling half the view a
+  // "tape" (agv evaluate seed 53, sequence 4: 98 mm green tape read 90 mm off, the grey floor's
+  // strip taken for it).
+  std::optional<cv::Vec3d> hint_offset;
+  if (tape_hint_bgr) {
+    cv::Vec3d h = *tape_hint_bgr - floor;
+    if (channels == 1) h = cv::Vec3d::all((h[0] + h[1] + h[2]) / 3.0);
+    if (cv::norm(h) >= kMinContrast) hint_offset = h;
+  }
   for (size_t k = 0; k < candidates.size(); ++k) {
     cv::Vec3d d = candidates[k];
     if (channels == 1) d = cv::Vec3d::all((d[0] + d[1] + d[2]) / 3.0);
     const double norm = cv::norm(d);
     if (norm < 1e-9) continue;
     d /= norm;
+    if (hint_offset && d.dot(*hint_offset) < kMinContrast) continue;
     strongest_combination(responses, channels, d, &response);
     const Distribution levels(response);
     const double peak = levels.quantile(0.995);
@@ -493,7 +506,7 @@ std::vector<ContrastAxis> choose_contrast_axes(const cv::Mat& frame,
     // Contrast over noise, the noise at least the sensor's few grey levels (a colour axis along
     // which nothing varies is not for that a good one); the tape must stand out by 20 levels.
     // The hint is what the user knows: it wins ties.
-    constexpr double kSensorNoise = 5.0, kMinContrast = 20.0;
+    constexpr double kSensorNoise = 5.0;
     const double score =
         (peak - middle) / std::hypot(spread, kSensorNoise) * (tape_hint_bgr && k == 0 ? 1.2 : 1.0);
     if (peak - middle < kMinContrast) continue;

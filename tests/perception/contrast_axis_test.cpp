@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <opencv2/imgproc.hpp>
 
 namespace agv::perception {
@@ -74,6 +76,28 @@ TEST(ContrastAxis, TheBarNotTheShadowChoosesTheAxis) {
   EXPECT_NEAR(axis->apply(bgr(tape)), 1.0, 0.15);
   EXPECT_NEAR(axis->apply(bgr(floor)), 0.0, 0.15);
   EXPECT_LT(axis->apply(bgr(shadow)), 0.5);
+}
+
+// Wide green tape filling the left of the view, grey floor with a lighter strip on the right:
+// along the lighter-grey axis the strip stands out as a bar and the tape reads below the floor.
+// Without a hint that axis is offered (the search tries it where the best gives no line); with
+// the tape's colour given every axis offered reads the tape above the floor, by at least half
+// the tape's contrast (the axis scales the tape to about 1).
+TEST(ContrastAxis, WithAHintEveryAxisReadsTheTapeAboveTheFloor) {
+  const cv::Scalar floor(120, 120, 120), tape(60, 170, 60), strip(170, 170, 170);
+  cv::Mat frame(120, 160, CV_8UC3, floor);
+  cv::rectangle(frame, cv::Rect(0, 0, 70, 120), tape, cv::FILLED);
+  cv::rectangle(frame, cv::Rect(120, 0, 8, 120), strip, cv::FILLED);
+  const auto reads_tape_above_floor = [&](const ContrastAxis& axis) {
+    return axis.apply(bgr(tape)) - axis.apply(bgr(floor)) > 0.5f;
+  };
+  const std::vector<ContrastAxis> unhinted = choose_contrast_axes(frame, std::nullopt, {8.0}, 2);
+  EXPECT_TRUE(std::any_of(unhinted.begin(), unhinted.end(),
+                          [&](const ContrastAxis& axis) { return !reads_tape_above_floor(axis); }));
+  const std::vector<ContrastAxis> hinted =
+      choose_contrast_axes(frame, cv::Vec3d(60, 170, 60), {8.0}, 2);
+  ASSERT_FALSE(hinted.empty());
+  for (const ContrastAxis& axis : hinted) EXPECT_TRUE(reads_tape_above_floor(axis));
 }
 
 // A row at once gives what each pixel gives alone (the scan's and the regions' contrast come
