@@ -1021,10 +1021,50 @@ std::optional<CurveModel> PathMemory::line_after_arc(
   const Eigen::Vector2d touch = centre - centre_side * normal;
   const double touch_along = direction.dot(touch - mean);
   if (touch_along > 0.0) return std::nullopt;  // the line starts ahead of the points ahead
-  // Under the vehicle: the line once past the tangent point, else the arc.
+  // Under the vehicle: the line once past the tangent point, else the arc. The arc carried on
+  // from where it was last measured may have drifted off the line by then (its curvature read
+  // from a short stretch, the odometry since): where the circle tangent to the course there and
+  // to the line touches the line behind the points ahead, that circle (corner_into_line).
   const double origin_along = direction.dot(-mean);
-  if (origin_along < touch_along) return arc;
+  if (origin_along < touch_along) {
+    if (options_.corner_into_line) {
+      if (const std::optional<CurveModel> fillet = arc_into_line(mean, direction)) return *fillet;
+    }
+    return arc;
+  }
   return curve_through_point(mean, std::atan2(direction.y(), direction.x()), 0.0);
+}
+
+std::optional<CurveModel> PathMemory::arc_into_line(const Eigen::Vector2d& line_point,
+                                                    const Eigen::Vector2d& line_direction) const {
+  if (!last_corner_course_) return std::nullopt;
+  const Eigen::Vector2d in = vehicle_.inverse().transform(last_corner_course_->foot_m);
+  const double in_heading_rad = last_corner_course_->heading_rad - vehicle_.yaw_rad;
+  const double out_heading_rad = std::atan2(line_direction.y(), line_direction.x());
+  const double turn_rad = wrap_angle_rad(out_heading_rad - in_heading_rad);
+  const Eigen::Vector2d u_in(std::cos(in_heading_rad), std::sin(in_heading_rad));
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  const double det = cross(u_in, line_direction);
+  if (std::abs(det) < 1e-9) return std::nullopt;
+  // Where the course's tangent meets the line: d_in ahead of the course's point, d_out behind
+  // the line's point; the circle tangent to both at d_in from the meeting point (the course's
+  // point on it) touches the line behind its point where d_in <= d_out.
+  const Eigen::Vector2d between = line_point - in;
+  const double d_in = cross(between, line_direction) / det;
+  const double d_out = cross(u_in, between) / det;
+  if (!(d_in > 0.0) || d_in > d_out) return std::nullopt;
+  // Its curvature near the course's (within a third): else the course or the line is not the
+  // corner's.
+  const double k_1_m = std::tan(0.5 * std::abs(turn_rad)) / d_in;
+  if (std::abs(k_1_m - std::abs(last_corner_course_->curvature_1_m)) >
+      std::abs(last_corner_course_->curvature_1_m) / 3.0)
+    return std::nullopt;
+  const std::optional<CurveModel> fillet =
+      corner_fillet(in, in_heading_rad, line_point, out_heading_rad);
+  if (!fillet || runs_against_the_vehicle(*fillet)) return std::nullopt;
+  return fillet;
 }
 
 std::optional<LineMeasurement> PathMemory::from_tape_ahead(

@@ -210,6 +210,13 @@ struct PathMemoryOptions {
   // mm). The arc's curvature from the end's last 40 mm is rough (R 0.11 m read for that corner,
   // its end then 5.6 mm off the line): 6 mm; 0 turns this off.
   double bridge_arc_meets_m = 0.006;
+  // The arc carried on into the line ahead: where the circle tangent to the course last measured
+  // on it and to that line touches the line behind the tape seen on it, with a curvature within
+  // a third of the course's, that circle (an arc carried on drifts off by the odometry's error
+  // and its curvature's, read from a short stretch: agv evaluate seed 23, sequence 2, a corner
+  // of R 0.30 m turning 129 deg read 4.4 mm off at its end). False carries the arc on as
+  // measured.
+  bool corner_into_line = true;
   // Inside a sharp corner the camera sees another leg or a crossing tape, not the arc the vehicle
   // is on. Where the remembered tape no longer reaches the origin, the tape last measured under
   // the vehicle bent at least this much (a corner's arc, not a fork's stem: there the line in
@@ -278,7 +285,7 @@ struct PathMemoryOptions {
   // forward): no tape seen steadily elsewhere, but a shadow's edge or a stray band each frame
   // (agv evaluate seed 18, sequence 4: a third such frame read 30 mm off, the sequence 3.66 ->
   // 3.08 mm RMS; of seeds 1-60 only two other sequences moved, 36/5 3.38 -> 3.34 mm and 53/4,
-  // already lost on the floor beside its tape, 37.8 -> 39.4 mm).
+  // already lost on the floor beside its tape, 37.8 -> 38.1 mm).
   double hold_unsteady_view_m = 0.1;
   // After confirm_after_blind_m driven without a line reported (a frame or more gave none), a
   // line carried back from the view alone (no remembered tape under the vehicle gives the
@@ -532,6 +539,12 @@ class PathMemory {
   // is then the arc up to the tangent point, the line beyond; nullopt where they do not meet so.
   std::optional<CurveModel> line_after_arc(const CurveModel& arc,
                                            const std::vector<Eigen::Vector2d>& ahead) const;
+  // The corner's arc from the course last measured on it (last_corner_course_, its point and
+  // direction) into the line through line_point along line_direction (vehicle frame): the circle
+  // tangent to both there, where it touches the line behind line_point and its curvature lies
+  // within a third of the course's; the piece of that corner under the vehicle (corner_fillet).
+  std::optional<CurveModel> arc_into_line(const Eigen::Vector2d& line_point,
+                                          const Eigen::Vector2d& line_direction) const;
   // After the memory's warm-up (a course measured under the vehicle before), where the remembered
   // tape reaches no further back than the origin (fewer than side_points points within window_m
   // behind it) but starts within ahead_max_gap_m ahead of it: `in_view` with its errors from one

@@ -1218,7 +1218,8 @@ struct WindowDrive {
 constexpr double kWindowCornerStart_m = 0.6;
 WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_m = 0.1,
                          double corner_turn_deg = 90.0, double width_m = kTapeWidthM,
-                         bool view_as_seen = false, std::pair<double, double> worn_m = {0.0, 0.0}) {
+                         bool view_as_seen = false, std::pair<double, double> worn_m = {0.0, 0.0},
+                         double odometry_yaw_drift_rad_per_m = 0.0) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0})
                                  .add_line(kWindowCornerStart_m)
                                  .add_arc(corner_radius_m, deg_to_rad(corner_turn_deg))
@@ -1263,7 +1264,9 @@ WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_
         seen.curvature_1_m = view.curvature_1_m;
       }
     }
-    const LineMeasurement m = memory.update(seen, d, vehicle);
+    // The odometry turned about the start by its yaw drift times the distance driven.
+    const Pose2 drift{0.0, 0.0, odometry_yaw_drift_rad_per_m * s};
+    const LineMeasurement m = memory.update(seen, d, drift.compose(vehicle));
     if (s >= 0.3) r.add(m, truth);  // after the memory's warm-up
   }
   return r;
@@ -1334,7 +1337,7 @@ void expect_bridged(const WindowDrive& r, double radius_m) {
 // window showing the way out in the turn and that leg carried back as the line in view: the
 // stretch from the corner's end into the way out is never seen. The corner's arc, carried on,
 // touches the line through the tape remembered nearest ahead (the way out): the tape under the
-// vehicle is the arc up to there, that line beyond (measured 1.69 and 0.87 mm / 1.10 and 0.34 deg
+// vehicle is the arc up to there, that line beyond (measured 0.23 and 0.17 mm / 0.39 and 0.21 deg
 // at worst; bounds as expect_bridged says). Without (corner_band_m 0) the arc is carried forward
 // past its end, or the way out carried back: 13.7 and 41.4 mm. The worst frames lie where the way
 // out is read off the arc: the memory there is 0.5-1.7 mm off on exact odometry, moved by
@@ -1352,10 +1355,27 @@ TEST(PathMemory, WhereACornerEndsUnseenItsArcRunsIntoTheLineAhead) {
   }
 }
 
+// The same corners: the arc carried on from the course last measured on it is the circle tangent
+// to that course and to the line ahead (corner_into_line), whose curvature the line fixes, not
+// the course's own read from a short stretch, which the registrations also move a little: within
+// 0.35 mm at worst (the memory's own error elsewhere in these drives, 0.1-0.2 mm, and its
+// curvature's across the stretch never seen; measured 0.23 and 0.17 mm). Carried on as measured:
+// 1.0 mm for R 0.14 m, where the arc's end meets the line 1 mm off.
+TEST(PathMemory, ACornersArcCarriedOnIsTheCircleIntoTheLineAhead) {
+  PathMemoryOptions as_measured;
+  as_measured.corner_into_line = false;
+  for (double radius_m : {0.14, 0.25}) {
+    const WindowDrive r = drive_window({}, radius_m, 132.0, kTapeWidthM, true);
+    EXPECT_EQ(r.lost, 0) << radius_m;
+    EXPECT_LE(r.max_e_d_error_m, 0.00035) << radius_m;
+  }
+  EXPECT_GE(drive_window(as_measured, 0.14, 132.0, kTapeWidthM, true).max_e_d_error_m, 0.0008);
+}
+
 // A corner of R 0.14 m turning 132 deg (as above), its way out worn away from 20 to 150 mm past
 // the corner's end, the line in view carried back 5 mm / 2 deg off: the line after the arc, read
 // off it while the tape ahead is still short of the vehicle, is read off it on from there (the
-// course last measured then being that line, no corner's arc). Measured 1.69 mm / 1.10 deg at
+// course last measured then being that line, no corner's arc). Measured 0.30 mm / 0.43 deg at
 // worst (bounds and why as above); read off the arc only in the first frame (the frames after
 // carried back): 5.0 mm / 2.0 deg (agv evaluate seed 3, sequence 0: a crossing tape hid the way
 // out, 15.9 mm).
@@ -1369,8 +1389,8 @@ TEST(PathMemory, PastACornerTheLineReadOffItsArcIsReadOnUntilTheTapeAheadIsReach
 // Corners of R 0.14 and 0.25 m turning 132 deg, worn away from 0.1 m before their end to 20 mm
 // past it, the memory keeping only 40 mm behind the vehicle (keep_behind_m; as where a low camera
 // saw the corner's arc only in glimpses): no tape remembered behind the vehicle on the arc, only
-// the course last measured on it, which runs into the line ahead. Measured 1.69 and 0.93 mm /
-// 1.10 and 0.34 deg at worst (bounds and why as above); where the arc was needed in the memory
+// the course last measured on it, which runs into the line ahead. Measured 0.23 and 0.28 mm /
+// 0.39 and 0.21 deg at worst (bounds and why as above); where the arc was needed in the memory
 // behind the vehicle, the line in view carried back, 5 mm / 2 deg off.
 TEST(PathMemory, WhereACornersArcIsNoMoreRememberedItsCourseRunsIntoTheLineAhead) {
   PathMemoryOptions short_memory;
@@ -1384,7 +1404,7 @@ TEST(PathMemory, WhereACornersArcIsNoMoreRememberedItsCourseRunsIntoTheLineAhead
 }
 
 // The same with an arc of R 0.6 m turning 40 deg: no corner, but its end unseen all the same.
-// Measured 0.69 mm / 0.72 deg at worst (bounds 1 mm, a fifth of the line in view's 5 mm, and 1
+// Measured 0.24 mm / 0.46 deg at worst (bounds 1 mm, a fifth of the line in view's 5 mm, and 1
 // deg); read so only after arcs of R 0.5 m or tighter (corner_min_curvature_1_m 2), the line in
 // view carried back, 5.0 mm / 4.7 deg.
 TEST(PathMemory, WhereAWideArcIsNoMoreRememberedItsCourseRunsIntoTheLineAheadToo) {
