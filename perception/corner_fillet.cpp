@@ -7,6 +7,20 @@
 
 namespace agv::perception {
 
+std::optional<LinesMeet> where_lines_meet(const Eigen::Vector2d& in_m, double in_heading_rad,
+                                          const Eigen::Vector2d& out_m, double out_heading_rad) {
+  const Eigen::Vector2d u_in(std::cos(in_heading_rad), std::sin(in_heading_rad));
+  const Eigen::Vector2d u_out(std::cos(out_heading_rad), std::sin(out_heading_rad));
+  // in + d_in u_in = out - d_out u_out (Cramer's rule; u_in x u_out = sin(turn)).
+  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() * b.y() - a.y() * b.x();
+  };
+  const Eigen::Vector2d between = out_m - in_m;
+  const double det = cross(u_in, u_out);
+  if (det == 0.0) return std::nullopt;
+  return LinesMeet{cross(between, u_out) / det, cross(u_in, between) / det};
+}
+
 std::optional<CurveModel> corner_fillet(const Eigen::Vector2d& in_m, double in_heading_rad,
                                         const Eigen::Vector2d& out_m, double out_heading_rad) {
   const double turn_rad = wrap_angle_rad(out_heading_rad - in_heading_rad);
@@ -15,14 +29,11 @@ std::optional<CurveModel> corner_fillet(const Eigen::Vector2d& in_m, double in_h
     return std::nullopt;
   const Eigen::Vector2d u_in(std::cos(in_heading_rad), std::sin(in_heading_rad));
   const Eigen::Vector2d u_out(std::cos(out_heading_rad), std::sin(out_heading_rad));
-  // in + d_in u_in = out - d_out u_out: where the lines meet, d_in ahead of the point in and
-  // d_out behind the point out (Cramer's rule; u_in x u_out = sin(turn)).
-  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() * b.y() - a.y() * b.x();
-  };
-  const Eigen::Vector2d between = out_m - in_m;
-  const double det = cross(u_in, u_out);
-  const double d_in = cross(between, u_out) / det, d_out = cross(u_in, between) / det;
+  // Where the lines meet: d_in ahead of the point in and d_out behind the point out.
+  const std::optional<LinesMeet> meets =
+      where_lines_meet(in_m, in_heading_rad, out_m, out_heading_rad);
+  if (!meets) return std::nullopt;
+  const double d_in = meets->d_in_m, d_out = meets->d_out_m;
   if (!(d_in > 0.0) || !(d_out > 0.0)) return std::nullopt;
   const Eigen::Vector2d meet = in_m + d_in * u_in;
   const double tangent_m = std::min(d_in, d_out);

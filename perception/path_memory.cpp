@@ -1042,19 +1042,13 @@ std::optional<CurveModel> PathMemory::arc_into_line(const Eigen::Vector2d& line_
   const double in_heading_rad = last_corner_course_->heading_rad - vehicle_.yaw_rad;
   const double out_heading_rad = std::atan2(line_direction.y(), line_direction.x());
   const double turn_rad = wrap_angle_rad(out_heading_rad - in_heading_rad);
-  const Eigen::Vector2d u_in(std::cos(in_heading_rad), std::sin(in_heading_rad));
-  auto cross = [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
-    return a.x() * b.y() - a.y() * b.x();
-  };
-  const double det = cross(u_in, line_direction);
-  if (std::abs(det) < 1e-9) return std::nullopt;
   // Where the course's tangent meets the line: d_in ahead of the course's point, d_out behind
   // the line's point; the circle tangent to both at d_in from the meeting point (the course's
   // point on it) touches the line behind its point where d_in <= d_out.
-  const Eigen::Vector2d between = line_point - in;
-  const double d_in = cross(between, line_direction) / det;
-  const double d_out = cross(u_in, between) / det;
-  if (!(d_in > 0.0) || d_in > d_out) return std::nullopt;
+  const std::optional<LinesMeet> meets =
+      where_lines_meet(in, in_heading_rad, line_point, out_heading_rad);
+  if (!meets || !(meets->d_in_m > 0.0) || meets->d_in_m > meets->d_out_m) return std::nullopt;
+  const double d_in = meets->d_in_m;
   // Its curvature near the course's (within a third): else the course or the line is not the
   // corner's.
   const double k_1_m = std::tan(0.5 * std::abs(turn_rad)) / d_in;

@@ -90,5 +90,21 @@ TEST(CornerFillet, NoneWhereTheLinesDoNotMeetBetweenThePoints) {
   EXPECT_TRUE(corner_fillet({0.0, 0.0}, 0.0, {0.1, 0.1}, M_PI / 2.0).has_value());
 }
 
+// Two lines at right angles meeting at (1, 0): 1 m ahead of the point in and 1 m behind the
+// point out; with the point out moved to x = -1, the meeting point lies behind the point in
+// (d_in -1 m); parallel lines meet nowhere.
+TEST(CornerFillet, WhereTwoLinesMeet) {
+  const std::optional<LinesMeet> ahead = where_lines_meet({0.0, 0.0}, 0.0, {1.0, 1.0}, M_PI / 2.0);
+  ASSERT_TRUE(ahead.has_value());
+  EXPECT_NEAR(ahead->d_in_m, 1.0, 1e-12);
+  EXPECT_NEAR(ahead->d_out_m, 1.0, 1e-12);
+  const std::optional<LinesMeet> behind =
+      where_lines_meet({0.0, 0.0}, 0.0, {-1.0, 2.0}, M_PI / 2.0);
+  ASSERT_TRUE(behind.has_value());
+  EXPECT_NEAR(behind->d_in_m, -1.0, 1e-12);
+  EXPECT_NEAR(behind->d_out_m, 2.0, 1e-12);
+  EXPECT_FALSE(where_lines_meet({0.0, 0.0}, 0.0, {1.0, 1.0}, 0.0).has_value());
+}
+
 }  // namespace
 }  // namespace agv::perception
