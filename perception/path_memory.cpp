@@ -1820,21 +1820,24 @@ std::optional<LineMeasurement> PathMemory::course_held(const LineMeasurement& ca
   return with_course(carried_back);
 }
 
+double PathMemory::offset_from_m(const LineMeasurement& m, const Course& course) const {
+  return std::abs(m.e_d_m - course_now(course).e_d_m);
+}
+
 std::optional<double> PathMemory::offset_from_recent_reading_m(const LineMeasurement& m) const {
   if (!last_reading_ || odometer_m_ - last_reading_->odometer_m > options_.hold_reading_m)
     return std::nullopt;
-  return std::abs(m.e_d_m - course_now(*last_reading_).e_d_m);
+  return offset_from_m(m, *last_reading_);
 }
 
 std::optional<LineMeasurement> PathMemory::reading_held(const LineMeasurement& carried_back) const {
   if (!last_reading_confirmed_ || !last_reading_) return std::nullopt;
   const double since_m = odometer_m_ - last_reading_->odometer_m;
-  const double offset_m = std::abs(carried_back.e_d_m - course_now(*last_reading_).e_d_m);
-  if (since_m > options_.hold_unsteady_view_m || offset_m <= options_.hold_course_offset_m)
+  if (since_m > options_.hold_unsteady_view_m ||
+      offset_from_m(carried_back, *last_reading_) <= options_.hold_course_offset_m)
     return std::nullopt;
   const bool view_jumps =
-      view_before_ && std::abs(carried_back.e_d_m - course_now(*view_before_).e_d_m) >
-                          options_.hold_course_offset_m;
+      view_before_ && offset_from_m(carried_back, *view_before_) > options_.hold_course_offset_m;
   if (since_m > options_.hold_reading_m && !view_jumps) return std::nullopt;
   LineMeasurement held = with_model(carried_back, course_now(*last_reading_));
   held.extrapolated = true;

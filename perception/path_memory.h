@@ -666,6 +666,8 @@ class PathMemory {
   std::optional<Course> view_, view_before_;
   // The course of a measurement (vehicle frame now) in the memory frame, with the odometer.
   Course course_of(const LineMeasurement& m) const;
+  // How far m (carried back) lies across from `course` carried forward, at the origin.
+  double offset_from_m(const LineMeasurement& m, const Course& course) const;
   // `m` as update returns it: refused after a blind stretch until confirmed (options_.confirm_*).
   LineMeasurement confirmed(const LineMeasurement& m);
   std::optional<double> reported_at_m_;  // odometer at the last line update returned
