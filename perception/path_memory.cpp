@@ -394,6 +394,7 @@ void PathMemory::reset() {
   corner_passed_at_m_.reset();
   recent_headings_.clear();
   last_course_.reset();
+  on_arc_from_m_.reset();
   last_reading_.reset();
   view_.reset();
   view_before_.reset();
@@ -1769,6 +1770,7 @@ LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetec
     return *m;
   }
   tape_heading_rad_.reset();
+  fit_course_to_its_arc(in_vehicle);
   if (std::optional<LineMeasurement> forward = carried_forward(carried_back)) return *forward;
   if (std::optional<LineMeasurement> held = course_held(carried_back)) return *held;
   if (std::optional<LineMeasurement> held = reading_held(carried_back)) {
@@ -1857,7 +1859,17 @@ void PathMemory::remember_heading(const LineMeasurement& m) {
       last_course_ && std::abs(wrap_angle_rad(*tape_heading_rad_ - last_course_->heading_rad -
                                               turn_since_last_course_rad())) <=
                           options_.carry_forward_turn_margin_rad;
+  const double bend_1_m = options_.carry_forward_min_curvature_1_m;
+  const bool on_arc = std::abs(course.curvature_1_m) >= bend_1_m;
+  const bool was_on_arc = last_course_ && std::abs(last_course_->curvature_1_m) >= bend_1_m &&
+                          (last_course_->curvature_1_m > 0.0) == (course.curvature_1_m > 0.0);
+  if (!on_arc) {
+    on_arc_from_m_.reset();
+  } else if (!was_on_arc || !on_arc_from_m_) {
+    on_arc_from_m_ = odometer_m_;
+  }
   last_course_ = course;
+  course_fitted_to_arc_ = false;
   if (std::abs(m.curvature_1_m) >= options_.corner_min_curvature_1_m)
     last_corner_course_ = last_course_;
 }
@@ -1867,6 +1879,43 @@ std::optional<LineMeasurement> PathMemory::course_carried_on(const LineMeasureme
       std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
     return std::nullopt;
   return with_course(m);
+}
+
+void PathMemory::fit_course_to_its_arc(const std::vector<Eigen::Vector2d>& in_vehicle) {
+  if (!last_course_ || course_fitted_to_arc_ || !on_arc_from_m_ ||
+      !(options_.arc_fit_reach_m > 0.0) ||
+      std::abs(last_course_->curvature_1_m) < options_.carry_forward_min_curvature_1_m)
+    return;
+  course_fitted_to_arc_ = true;
+  // Only the arc the vehicle drove on (not the tape before it, which bends otherwise).
+  const double reach_m =
+      std::min(options_.arc_fit_reach_m, last_course_->odometer_m - *on_arc_from_m_);
+  const CurveModel arc = last_course_now();
+  const CurveModel::Prepared course = arc.prepared();
+  const Eigen::Vector2d foot = vehicle_.inverse().transform(last_course_->foot_m);
+  const double s_foot = course.arc_position(foot);
+  const double width_m = std::max(tape_width_m_, kNarrowTape_m);
+  std::vector<Eigen::Vector2d> along;
+  for (const Eigen::Vector2d& p : in_vehicle) {
+    const double s = course.arc_position(p);
+    if (s <= s_foot && s >= s_foot - reach_m && std::abs(course.signed_distance(p)) <= width_m)
+      along.push_back(p);
+  }
+  if (static_cast<int>(along.size()) < options_.min_points) return;
+  CurveFitOptions fit_options;
+  fit_options.inlier_threshold_m = options_.arc_fit_inlier_m;
+  fit_options.forward = arc.tangent_at(s_foot);
+  const CurveFit fit = fit_curve_robust(along, fit_options, nullptr, nullptr, &arc);
+  if (!fit.ok || fit.is_line || fit.s_max_m - fit.s_min_m < options_.arc_fit_min_span_m) return;
+  const CurveModel fitted = fit.model.oriented_like(arc, foot);
+  if (std::abs(fitted.curvature_1_m - arc.curvature_1_m) > std::abs(arc.curvature_1_m) / 3.0)
+    return;
+  // The course's foot point moved onto the fitted arc, with its direction there.
+  const double s = fitted.arc_position(foot);
+  const Eigen::Vector2d direction = fitted.tangent_at(s);
+  last_course_->foot_m = vehicle_.transform(fitted.point_at(s));
+  last_course_->heading_rad = vehicle_.yaw_rad + std::atan2(direction.y(), direction.x());
+  last_course_->curvature_1_m = fitted.curvature_1_m;
 }
 
 std::optional<LineMeasurement> PathMemory::carried_forward(
@@ -1976,6 +2025,7 @@ LineMeasurement PathMemory::remembered_only(const LineMeasurement& in_view,
   if (!m && past_corner) {
     // Past the tape remembered, still in the corner: its arc carried on (the only way out of an
     // L corner) for a while, the heading kept for the frames after.
+    fit_course_to_its_arc(in_vehicle);
     std::optional<LineMeasurement> carried = course_carried_on(in_view);
     if (carried) {
       carried->line_found = true;

@@ -228,6 +228,18 @@ struct PathMemoryOptions {
   // -> 95.0 % of its frames, the arc carried within 1 mm).
   double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
   double carry_forward_m = 0.2;
+  // That arc, when first carried on, is the circle fitted to the tape remembered along it (within
+  // a tape width of it, back from its foot point over the stretch the vehicle drove on the arc,
+  // at most arc_fit_reach_m: not the tape before the arc; Cauchy weights beyond
+  // arc_fit_inlier_m), where that tape spans at least arc_fit_min_span_m and the circle's
+  // curvature is within a third of the arc's: the course comes from the last fit at the origin,
+  // over the window's few centimetres of one side, whose curvature is good to a few per cent, and
+  // carried on over up to 0.2 m such an error grows into millimetres (agv evaluate seed 27,
+  // sequence 9: R 0.27 m read 2.5 % too sharp, 0.3 -> 2.7 mm over 0.18 m; fitted to 0.2 m of
+  // the arc, 0.3 mm throughout). 0 turns this off.
+  double arc_fit_reach_m = 0.2;
+  double arc_fit_inlier_m = 0.0005;
+  double arc_fit_min_span_m = 0.05;
   // ... the tape width in those two tests at most this: the line that runs on from an arc's end
   // passes through it within millimetres, and the width of 100 mm tape took a corner's outgoing
   // leg, carried back 40 mm off the arc under the vehicle, for that tape (agv evaluate seed 4,
@@ -600,6 +612,10 @@ class PathMemory {
   // carry_forward_min_curvature_1_m: a corner's arc) and at most carry_forward_m behind; else
   // nothing.
   std::optional<LineMeasurement> course_carried_on(const LineMeasurement& m) const;
+  // Before the course last measured is first carried on, while it is a corner's arc: that arc
+  // fitted to the tape remembered along it (in_vehicle: the points in the vehicle frame; see
+  // arc_fit_reach_m), where the fit holds.
+  void fit_course_to_its_arc(const std::vector<Eigen::Vector2d>& in_vehicle);
   // The course last measured under the vehicle, moved to this frame's origin (last_course_ set).
   CurveModel last_course_now() const;
   // How far the tape turns along the course last measured over the distance driven since
@@ -654,6 +670,10 @@ class PathMemory {
     bool runs_on = false;
   };
   std::optional<Course> last_course_;
+  bool course_fitted_to_arc_ = false;  // fit_course_to_its_arc has run on last_course_
+  // The odometer where the courses measured last began to bend one way by at least
+  // carry_forward_min_curvature_1_m (the vehicle came onto a corner's arc), while they do.
+  std::optional<double> on_arc_from_m_;
   // The last reading update returned with a line, other than reading_held's.
   std::optional<Course> last_reading_;
   // Whether last_reading_ lay within hold_course_offset_m of the reading before it, carried
