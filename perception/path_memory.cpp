@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <limits>
 #include <memory>
@@ -1626,13 +1627,13 @@ std::vector<Eigen::Vector2d> PathMemory::chord_centres(const LineDetection& dete
 LineMeasurement PathMemory::update(const LineMeasurement& in_view, const LineDetection& detection,
                                    const std::optional<Pose2>& odometry, OdometryKind kind) {
   reading_held_ = false;
+  refused_because_.clear();
   const LineMeasurement m = read(in_view, detection, odometry, kind);  // no odometry: reset
   if (odometry && m.line_found && !reading_held_) {
     const std::optional<double> offset_m = offset_from_recent_reading_m(m);
     last_reading_confirmed_ = offset_m && *offset_m <= options_.hold_course_offset_m;
     last_reading_ = course_of(m);
   }
-  refused_because_.clear();
   if (!odometry) return m;  // nothing to carry a refused line forward with
   return confirmed(m);
 }
@@ -1776,6 +1777,20 @@ LineMeasurement PathMemory::read(const LineMeasurement& in_view, const LineDetec
   if (std::optional<LineMeasurement> held = reading_held(carried_back)) {
     reading_held_ = true;
     return *held;
+  }
+  const double width_m = carried_back.tape_width_m;
+  if (options_.carried_back_width_tolerance > 0.0 && last_course_ && !points_.empty() &&
+      tape_width_m_ > 0.0 && width_m > 0.0 &&
+      std::abs(width_m - tape_width_m_) > options_.carried_back_width_tolerance * tape_width_m_) {
+    char why[160];
+    std::snprintf(why, sizeof(why),
+                  "line %.1f mm wide, unlike the %.1f mm tape remembered, and no tape remembered "
+                  "under the vehicle",
+                  1e3 * width_m, 1e3 * tape_width_m_);
+    refused_because_ = why;
+    LineMeasurement refused;
+    refused.stamp_s = carried_back.stamp_s;
+    return refused;
   }
   return carried_back;
 }

@@ -228,18 +228,6 @@ struct PathMemoryOptions {
   // -> 95.0 % of its frames, the arc carried within 1 mm).
   double carry_forward_min_curvature_1_m = 2.0;  // R 0.5 m
   double carry_forward_m = 0.2;
-  // That arc, when first carried on, is the circle fitted to the tape remembered along it (within
-  // a tape width of it, back from its foot point over the stretch the vehicle drove on the arc,
-  // at most arc_fit_reach_m: not the tape before the arc; Cauchy weights beyond
-  // arc_fit_inlier_m), where that tape spans at least arc_fit_min_span_m and the circle's
-  // curvature is within a third of the arc's: the course comes from the last fit at the origin,
-  // over the window's few centimetres of one side, whose curvature is good to a few per cent, and
-  // carried on over up to 0.2 m such an error grows into millimetres (agv evaluate seed 27,
-  // sequence 9: R 0.27 m read 2.5 % too sharp, 0.3 -> 2.7 mm over 0.18 m; fitted to 0.2 m of
-  // the arc, 0.3 mm throughout). 0 turns this off.
-  double arc_fit_reach_m = 0.2;
-  double arc_fit_inlier_m = 0.0005;
-  double arc_fit_min_span_m = 0.05;
   // ... the tape width in those two tests at most this: the line that runs on from an arc's end
   // passes through it within millimetres, and the width of 100 mm tape took a corner's outgoing
   // leg, carried back 40 mm off the arc under the vehicle, for that tape (agv evaluate seed 4,
@@ -254,6 +242,27 @@ struct PathMemoryOptions {
   // read an arc of R 0.15 m, and carried forward it was 33 mm off where the line in view was 10
   // (scenarios/fork_left.yaml started 0.50 m along at 0.28 m/s).
   double carry_forward_turn_margin_rad = 0.05;
+  // The arc carried forward (carry_forward_min_curvature_1_m), when first carried on, is the
+  // circle fitted to the tape remembered along it (within a tape width of it, back from its foot
+  // point over the stretch the vehicle drove on the arc, at most arc_fit_reach_m: not the tape
+  // before the arc; Cauchy weights beyond arc_fit_inlier_m), where that tape spans at least
+  // arc_fit_min_span_m and the circle's curvature is within a third of the arc's: the course
+  // comes from the last fit at the origin, over the window's few centimetres of one side, whose
+  // curvature is good to a few per cent, and carried on over up to 0.2 m such an error grows
+  // into millimetres (agv evaluate seed 27, sequence 9: R 0.27 m read 2.5 % too sharp, 0.3 ->
+  // 2.7 mm over 0.18 m; fitted to 0.2 m of the arc, 0.3 mm throughout). 0 turns this off.
+  double arc_fit_reach_m = 0.2;
+  double arc_fit_inlier_m = 0.0005;
+  double arc_fit_min_span_m = 0.05;
+  // A line in view that would only be carried back (nothing remembered reads the tape under the
+  // vehicle) is refused where its width differs from the tape remembered by more than this
+  // fraction of it, while tape is remembered: a strip of wide tape whose other edge lies beyond
+  // the view's border or is lost in the lens's shading, on a corner's outgoing leg (agv evaluate
+  // seed 36, sequence 5: 85 mm tape read 33-69 mm wide, up to 25 mm off). Not in the warm-up (no
+  // course measured under the vehicle yet), where the width remembered may be a first frame's
+  // strip (seed 18, sequence 4: 97 mm tape remembered 24 mm wide; the right lines were refused
+  // for 30 frames). 0 turns this off.
+  double carried_back_width_tolerance = 0.3;
   // Across a corner's stretch never seen (around_corner): the two ends within this of the last
   // course carried on (or a tape width), one circle through both within corner_max_rms_m. A
   // band of 0 turns this off.

@@ -1240,12 +1240,12 @@ struct WindowDrive {
 // window extended to the vehicle (a corner's outgoing leg, when that is all the window shows),
 // else the truth at the vehicle, 5 mm and 2 deg off.
 // The corner starts 0.6 m along the path; with `worn_m` (from, to: along the path), the tape there
-// is worn away (no chord).
+// is worn away (no chord). The line in view is reported view_width_share times the tape's width.
 constexpr double kWindowCornerStart_m = 0.6;
 WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_m = 0.1,
                          double corner_turn_deg = 90.0, double width_m = kTapeWidthM,
                          bool view_as_seen = false, std::pair<double, double> worn_m = {0.0, 0.0},
-                         double odometry_yaw_drift_rad_per_m = 0.0) {
+                         double odometry_yaw_drift_rad_per_m = 0.0, double view_width_share = 1.0) {
   const control::Path path = control::Path::starting_at({0.0, 0.0, 0.0})
                                  .add_line(kWindowCornerStart_m)
                                  .add_arc(corner_radius_m, deg_to_rad(corner_turn_deg))
@@ -1270,6 +1270,7 @@ WindowDrive drive_window(const PathMemoryOptions& options, double corner_radius_
     LineMeasurement seen;
     seen.line_found = line.chords.size() >= 12;
     if (seen.line_found) {
+      seen.tape_width_m = view_width_share * width_m;
       line.clean_chords = line.chords;
       line.width_m = width_m;
       line.model.heading_rad = wrap_angle_rad(path.heading_at(s_last) - vehicle.yaw_rad);
@@ -1328,6 +1329,47 @@ TEST(PathMemory, TapeNeverSeenPastACornerIsBridged) {
   EXPECT_EQ(aged.lost, 0);
   EXPECT_LE(aged.max_e_d_error_m, 0.0005);
   EXPECT_LE(rad_to_deg(aged.max_e_theta_error_rad), 1.0);
+}
+
+// As above with the gap not bridged: with nothing remembered under the vehicle, some frames are the
+// line in view carried back (5 mm and 2 deg off here: 5 of the 15 frames extrapolated, the others
+// the course held). Where that line is reported half as wide as the tape remembered (a strip of
+// wide tape, its other edge beyond the view's border) such frames give no line instead (3 of
+// them here), and fewer read off; 0.8 of
+// the width is taken. Without the check (carried_back_width_tolerance 0) the half-width line is
+// carried back. In the warm-up it is taken.
+TEST(PathMemory, ALineCarriedBackUnlikeTheTapeRememberedInWidthIsRefused) {
+  PathMemoryOptions no_bridge;
+  no_bridge.max_gap_m = 0.0;
+  auto with_view_width = [](const PathMemoryOptions& options, double share) {
+    return drive_window(options, 0.1, 90.0, kTapeWidthM, false, {}, 0.0, share);
+  };
+  auto read_off = [](const WindowDrive& r) {
+    return r.extrapolated - r.extrapolated_within_half_mm;
+  };
+  const WindowDrive as_wide = with_view_width(no_bridge, 1.0);
+  ASSERT_GT(read_off(as_wide), 0);
+  EXPECT_EQ(as_wide.lost, 0);
+  const WindowDrive nearly = with_view_width(no_bridge, 0.8);
+  EXPECT_EQ(nearly.lost, 0);
+  EXPECT_EQ(read_off(nearly), read_off(as_wide));
+  const WindowDrive half = with_view_width(no_bridge, 0.5);
+  EXPECT_GT(half.lost, 0);
+  EXPECT_EQ(half.lost + half.extrapolated, as_wide.extrapolated);
+  EXPECT_LT(read_off(half), read_off(as_wide));
+  PathMemoryOptions unchecked = no_bridge;
+  unchecked.carried_back_width_tolerance = 0.0;
+  const WindowDrive taken = with_view_width(unchecked, 0.5);
+  EXPECT_EQ(taken.lost, 0);
+  EXPECT_EQ(read_off(taken), read_off(as_wide));
+  // In the warm-up (no course measured under the vehicle yet) the width remembered may be a first
+  // frame's strip: a line of another width is taken.
+  const std::vector<LineMeasurement> warm_up = along_straight_tape({}, 10, [](int k) {
+    LineMeasurement m = line_in_view();
+    m.tape_width_m = (k == 10 ? 0.5 : 1.0) * kTapeWidthM;
+    return m;
+  });
+  EXPECT_TRUE(warm_up[10].line_found);
 }
 
 // Not bridged (max_gap_m 0): once the corner's arc is more than window_m behind the vehicle, the
