@@ -1332,12 +1332,12 @@ TEST(PathMemory, TapeNeverSeenPastACornerIsBridged) {
 }
 
 // As above with the gap not bridged: with nothing remembered under the vehicle, some frames are the
-// line in view carried back (5 mm and 2 deg off here: 5 of the 15 frames extrapolated, the others
-// the course held). Where that line is reported half as wide as the tape remembered (a strip of
+// line in view carried back (5 mm and 2 deg off here: 5 of the 15 frames extrapolated, the other
+// 10 within 0.5 mm). Where that line is reported half as wide as the tape remembered (a strip of
 // wide tape, its other edge beyond the view's border) such frames give no line instead (3 of
-// them here), and fewer read off; 0.8 of
-// the width is taken. Without the check (carried_back_width_tolerance 0) the half-width line is
-// carried back. In the warm-up it is taken.
+// them here), and fewer frames read off; 0.8 of the width is taken. Without the check
+// (carried_back_width_tolerance 0) the half-width line is carried back. In the warm-up it is
+// taken.
 TEST(PathMemory, ALineCarriedBackUnlikeTheTapeRememberedInWidthIsRefused) {
   PathMemoryOptions no_bridge;
   no_bridge.max_gap_m = 0.0;
