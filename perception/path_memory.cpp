@@ -1880,7 +1880,7 @@ void PathMemory::remember_heading(const LineMeasurement& m) {
                           (last_course_->curvature_1_m > 0.0) == (course.curvature_1_m > 0.0);
   if (!on_arc) {
     on_arc_from_m_.reset();
-  } else if (!was_on_arc || !on_arc_from_m_) {
+  } else if (!was_on_arc) {
     on_arc_from_m_ = odometer_m_;
   }
   last_course_ = course;
