@@ -449,9 +449,10 @@ CurveFit fit_curve_robust(const std::vector<Eigen::Vector2d>& points,
   fit.s_min_m = std::numeric_limits<double>::infinity();
   fit.s_max_m = -fit.s_min_m;
   const CurveModel::Prepared prepared = model.prepared();
+  const double centroid_s_m = prepared.arc_position(centroid);
   for (size_t i = 0; i < points.size(); ++i) {
     if (!fit.inliers[i]) continue;
-    const double s = prepared.arc_position(points[i]);
+    const double s = prepared.arc_position_near(points[i], centroid_s_m);
     fit.s_min_m = std::min(fit.s_min_m, s);
     fit.s_max_m = std::max(fit.s_max_m, s);
   }

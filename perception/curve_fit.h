@@ -60,6 +60,14 @@ struct CurveModel {
       const double swept = std::atan2(k * along, 1.0 - k * across);
       return swept / k;
     }
+    // arc_position, the turn of an arc counted from near_s_m rather than from the point opposite
+    // the foot: within half a turn of near_s_m (evidence that straddles that opposite point, half
+    // a turn round a tight arc from the origin's foot, keeps its positions together).
+    double arc_position_near(const Eigen::Vector2d& p, double near_s_m) const {
+      const double s = arc_position(p);
+      if (std::abs(curvature_1_m) < 1e-9) return s;
+      return near_s_m + std::remainder(s - near_s_m, 2.0 * M_PI / std::abs(curvature_1_m));
+    }
     // The curve's direction at arc_position(p), not of unit length (tangent_at without the
     // trigonometry): the tangent at the foot turned by the angle swept, whose cosine and sine
     // are (1 - k p.n, k p.t) over their length.

@@ -17,6 +17,27 @@ double quantile(std::vector<double> values, double q) {
   return values[i];
 }
 
+// The direction `model` runs in where its evidence lies (the mean of `points` where `mask`): the
+// `forward` that fits to the same evidence are oriented by. Not its tangent at the vehicle's
+// foot point: around a tight arc that point may lie half a turn from the evidence, where the
+// curve runs the other way, and the edges' sides fitted with it swap (real frames,
+// datasets/lines/lrp_floor_curves line_4, R 0.1 m, with the camera 0.2 m ahead of the origin:
+// the tape refused as of varying width). Nor its tangent at the middle of the evidence's arc
+// positions, which jump by a turn where the evidence straddles the point opposite the foot.
+Eigen::Vector2d direction_at_evidence(const CurveModel& model,
+                                      const std::vector<Eigen::Vector2d>& points,
+                                      const std::vector<bool>& mask) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int count = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!mask[i]) continue;
+    sum += points[i];
+    ++count;
+  }
+  if (count == 0) return model.tangent();
+  return model.prepared().unit_direction_at(sum / count);
+}
+
 // Width of the tape at a chord: the chord's extent across the curve (`prepared`: its model's).
 double chord_width(const Chord& chord, const CurveModel::Prepared& prepared) {
   const Eigen::Vector2d ahead = prepared.unit_direction_at(chord.centre());
@@ -49,7 +70,7 @@ std::optional<CurveModel> near_model_if_different(const std::vector<Chord>& chor
     if (quantile(misfit, 0.5) <= std::max(0.001, 3.0 * line.residual_rms_m)) return std::nullopt;
   }
   CurveFitOptions fit_options = options.fit;
-  fit_options.forward = line.model.tangent();
+  fit_options.forward = direction_at_evidence(line.model, centres, near);
   const CurveFit fit = fit_curve_robust(centres, fit_options, &near);
   if (!fit.ok || fit.inlier_count < options.min_points) return std::nullopt;
   if (fit.s_max_m - fit.s_min_m < std::max(options.min_visible_length_m, 0.05)) return std::nullopt;
@@ -116,7 +137,7 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   std::vector<double> first_offsets, second_offsets;
   side_offsets(c, first.model, half_width_m, &first_offsets, &second_offsets);
   CurveFitOptions edge_options = options.fit;
-  edge_options.forward = first.model.tangent();
+  edge_options.forward = direction_at_evidence(first.model, c.centres, first.inliers);
   const EdgeObservations edges{&c.firsts, &c.seconds, &first_offsets, &second_offsets};
   CurveFit edge_fit = fit_curve_robust(c.centres, edge_options, &available, &edges);
   if (!edge_fit.ok || edge_fit.inlier_count < options.min_points) return Candidate{first, {}};
@@ -156,6 +177,7 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
   // Clean: both edges within max(1 mm, 3 robust sigmas) of where the tape's edges should be.
   const double clean_band_m = std::max(0.001, 3.0 * edge_fit.rms_m);
   const CurveModel::Prepared edge_curve = edge_fit.model.prepared();
+  const double edge_middle_s_m = 0.5 * (edge_fit.s_min_m + edge_fit.s_max_m);
   std::vector<bool> clean(chords.size(), false);
   int clean_count = 0, one_edge_count = 0;
   double clean_s_min = 1e9, clean_s_max = -1e9;
@@ -168,13 +190,13 @@ std::optional<Candidate> fit_candidate(const ChordSet& c, const std::vector<Chor
     }
     clean[i] = true;
     ++clean_count;
-    const double s = edge_curve.arc_position(c.centres[i]);
+    const double s = edge_curve.arc_position_near(c.centres[i], edge_middle_s_m);
     clean_s_min = std::min(clean_s_min, s);
     clean_s_max = std::max(clean_s_max, s);
   }
   Candidate candidate{edge_fit, edge_fit.edge_inliers};
   CurveFitOptions centre_options = options.fit;
-  centre_options.forward = edge_fit.model.tangent();
+  centre_options.forward = direction_at_evidence(edge_fit.model, c.centres, edge_fit.inliers);
   const bool clean_covers =
       clean_s_max - clean_s_min >= 0.7 * (edge_fit.s_max_m - edge_fit.s_min_m);
   const bool few_one_edge = one_edge_count * 10 < edge_fit.inlier_count;  // no fork, no merging
@@ -308,7 +330,7 @@ std::optional<DetectedLine> evaluate(const Candidate& candidate, const std::vect
     // A chord of a line accepted before, where this one's evidence runs alongside it.
     bool explained = !fit.inliers[i] && !explained_by_others.empty() && explained_by_others[i];
     if (explained) {
-      const double s = curve.arc_position(c.centres[i]);
+      const double s = curve.arc_position_near(c.centres[i], 0.5 * (fit.s_min_m + fit.s_max_m));
       explained = s >= fit.s_min_m && s <= fit.s_max_m;
     }
     if (!explained) ++near_unexplained;
@@ -386,7 +408,7 @@ bool second_reading_of(const DetectedLine& line, const DetectedLine& other, doub
     const double s = line.s_min_m + (line.s_max_m - line.s_min_m) * k / (kSamples - 1);
     const Eigen::Vector2d p = line.model.point_at(s);
     if (std::abs(curve.signed_distance(p)) > kSameTape * width_m) return false;
-    const double s_other = curve.arc_position(p);
+    const double s_other = curve.arc_position_near(p, 0.5 * (other.s_min_m + other.s_max_m));
     if (s_other < other.s_min_m - 0.5 * width_m || s_other > other.s_max_m + 0.5 * width_m)
       return false;
   }
@@ -517,7 +539,7 @@ std::optional<DetectedLine> track_line(const std::vector<Chord>& chords, const C
   std::vector<double> first_offsets, second_offsets;
   side_offsets(c, initial, 0.5 * prior_width_m, &first_offsets, &second_offsets);
   CurveFitOptions fit_options = options.fit;
-  fit_options.forward = initial.tangent();
+  fit_options.forward = direction_at_evidence(initial, c.centres, usable);
   const EdgeObservations edges{&c.firsts, &c.seconds, &first_offsets, &second_offsets};
   const CurveFit fit = fit_curve_robust(c.centres, fit_options, &usable, &edges, &initial);
   if (!fit.ok || fit.inlier_count < options.min_points) {

@@ -199,3 +199,45 @@ TEST(LineSet, AnAlignmentInsideWideTapeIsNoSecondLine) {
 
 }  // namespace
 }  // namespace agv::perception
+
+namespace agv::perception {
+namespace {
+
+// A tight arc (R 0.12 m, 20 mm tape) seen where it runs the other way from where it passes
+// nearest the vehicle's origin (the centre 0.2 m ahead, the tape seen on its far side, 0.3 m
+// ahead; chords along x, crossing the tape up to 50 deg from square): one line, the arc through
+// its edges. The fits on its edges are oriented by the curve's direction where the tape was seen
+// (with its direction at the origin's foot point, half a turn round, the edges' sides swapped:
+// four lines, none as wide as the tape), and the evidence's arc positions run on through the
+// point opposite the foot (cut there, they spanned the whole circle: too sparse for a line).
+TEST(LineSet, ATightArcSeenHalfATurnFromTheOriginsFootIsOneLine) {
+  constexpr double kRadius_m = 0.12, kWidth_m = 0.02;
+  const Eigen::Vector2d centre(0.2, 0.0);
+  cv::RNG rng(11);
+  std::vector<Chord> chords;
+  for (double y = -0.09; y <= 0.09; y += 0.0005) {
+    auto x_at = [&](double r) { return centre.x() + std::sqrt(r * r - y * y); };
+    chords.push_back({{x_at(kRadius_m - 0.5 * kWidth_m) + rng.gaussian(0.0001), y},
+                      {x_at(kRadius_m + 0.5 * kWidth_m) + rng.gaussian(0.0001), y}});
+  }
+  LineSetOptions options;
+  options.expected_width_m = 0.0;  // measured
+  options.scan_spacing_m = 0.0005;
+  options.fit.inlier_threshold_m = 0.12 * kWidth_m;  // as LineEstimator sets it
+  std::vector<std::string> rejections;
+  const auto lines = extract_lines(chords, options, &rejections);
+  ASSERT_EQ(lines.size(), 1u) << (rejections.empty() ? "" : rejections.front());
+  // 0.1 mm noise per edge over 361 chords: the curvature to a few hundredths of 1/m, the width
+  // (the chords' extent across the curve at their centres: oblique chords of a tight arc read up
+  // to 1.4 % wide) to a few tenths of a millimetre.
+  EXPECT_NEAR(std::abs(lines[0].model.curvature_1_m), 1.0 / kRadius_m, 0.1);
+  EXPECT_NEAR(lines[0].width_m, kWidth_m, 0.0005);
+  // The centre line: every point of the fit 0.3 m ahead within 0.2 mm of the tape's centre circle.
+  for (double y = -0.08; y <= 0.08; y += 0.02) {
+    const double x = centre.x() + std::sqrt(kRadius_m * kRadius_m - y * y);
+    EXPECT_NEAR(lines[0].model.signed_distance({x, y}), 0.0, 0.0002) << "y " << y;
+  }
+}
+
+}  // namespace
+}  // namespace agv::perception
