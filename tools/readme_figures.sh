@@ -16,3 +16,8 @@ for dataset in datasets/*/; do
   "$agv" replay --quiet --no-video "$dataset" --out "$out/$(basename "$dataset")" | head -1 |
     sed 's/ | [0-9.]* ms per frame (median)//'
 done
+for folder in datasets/lines/*/; do
+  echo "${folder}README.md:"
+  "$agv" replay --quiet --no-video --fps 1 --no-tracking "$folder" --out "$out/$(basename "$folder")" |
+    head -1 | sed 's/ | [0-9.]* ms per frame (median)//'
+done

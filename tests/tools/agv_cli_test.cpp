@@ -243,6 +243,21 @@ TEST_F(AgvCli, ReadmesQuoteWhatTheProgramPrintsToday) {
         << entry.path().filename() << "/README.md does not quote: " << printed;
   }
   EXPECT_EQ(datasets, 3);
+  // Real frames in bare folders (datasets/lines/*), replayed one second apart, every frame
+  // searched.
+  int folders = 0;
+  for (const auto& entry : fs::directory_iterator(source / "datasets" / "lines")) {
+    ++folders;
+    const Result replay =
+        run("replay --quiet --no-video --fps 1 --no-tracking " + entry.path().string() + " --out " +
+            path("lines_" + entry.path().filename().string()));
+    ASSERT_EQ(replay.exit_code, 0) << replay.output;
+    std::string printed = first_line(replay.output);
+    printed = printed.substr(0, printed.rfind(" | "));
+    EXPECT_NE(file_text(entry.path() / "README.md").find(printed), std::string::npos)
+        << entry.path().filename() << "/README.md does not quote: " << printed;
+  }
+  EXPECT_EQ(folders, 2);
 }
 
 // Bad input: one message naming the file or option and the key, exit code 2, no output folder.
