@@ -227,9 +227,9 @@ TEST(LineSet, ATightArcSeenHalfATurnFromTheOriginsFootIsOneLine) {
   std::vector<std::string> rejections;
   const auto lines = extract_lines(chords, options, &rejections);
   ASSERT_EQ(lines.size(), 1u) << (rejections.empty() ? "" : rejections.front());
-  // 0.1 mm noise per edge over 361 chords: the curvature to a few hundredths of 1/m, the width
-  // (the chords' extent across the curve at their centres: oblique chords of a tight arc read up
-  // to 1.4 % wide) to a few tenths of a millimetre.
+  // 0.1 mm noise per edge over 361 chords: the curvature within 0.1 1/m (1.2 %; 0.007 1/m off
+  // today), the width within 0.5 mm (the chords' extent across the curve at their centres:
+  // oblique chords of a tight arc read up to 1.4 %, 0.3 mm, wide).
   EXPECT_NEAR(std::abs(lines[0].model.curvature_1_m), 1.0 / kRadius_m, 0.1);
   EXPECT_NEAR(lines[0].width_m, kWidth_m, 0.0005);
   // The centre line: every point of the fit 0.3 m ahead within 0.2 mm of the tape's centre circle.
