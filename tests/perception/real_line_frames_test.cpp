@@ -9,48 +9,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <ostream>
-#include <sstream>
 #include <tuple>
 
 #include "perception/camera_file.h"
 #include "perception/line_estimator.h"
+#include "support/exit_labels.h"
 
 namespace agv::perception {
 namespace {
 
 const std::string kLines = std::string(AGV_SOURCE_DIR) + "/datasets/lines/";
-
-struct FrameLabel {
-  std::string file, kind;               // straight, curve_left, curve_right, end, none
-  std::map<std::string, double> exits;  // border -> pixel along it; "end": the end's row
-};
-
-std::vector<FrameLabel> read_frame_labels(const std::string& folder) {
-  std::vector<FrameLabel> labels;
-  std::ifstream in(folder + "labels.csv");
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::stringstream fields(line);
-    FrameLabel label;
-    std::string exits;
-    std::getline(fields, label.file, ',');
-    std::getline(fields, label.kind, ',');
-    std::getline(fields, exits, ',');
-    std::stringstream parts(exits);
-    std::string part;
-    while (std::getline(parts, part, ';')) {
-      const size_t colon = part.find(':');
-      label.exits[part.substr(0, colon)] = std::stod(part.substr(colon + 1));
-    }
-    labels.push_back(label);
-  }
-  return labels;
-}
 
 // Where the curve, extended beyond its evidence both ways by as much again (at least 30 mm) and
 // seen through the camera, crosses the image border `side` 3 px inside the image (where the
@@ -95,7 +65,7 @@ class RealLineFrames : public ::testing::TestWithParam<std::tuple<std::string, A
 TEST_P(RealLineFrames, LinesMatchTheLabelsWithNoWidthGiven) {
   const auto& [dataset, assumed] = GetParam();
   const std::string folder = kLines + dataset + "/";
-  const std::vector<FrameLabel> labels = read_frame_labels(folder);
+  const std::vector<ExitLabel> labels = read_exit_labels(folder + "labels.csv");
   ASSERT_GE(labels.size(), 2u) << "labels.csv not found or empty: " << folder;
   const CameraFile file = load_camera_file(folder + "camera.yaml");
   ASSERT_TRUE(file.mount.has_value());
@@ -107,7 +77,7 @@ TEST_P(RealLineFrames, LinesMatchTheLabelsWithNoWidthGiven) {
   options.tape.width_m = 0.0;  // measured: the camera files give none
   const LineEstimator estimator(camera, options);
   std::vector<double> widths_m;
-  for (const FrameLabel& label : labels) {
+  for (const ExitLabel& label : labels) {
     const cv::Mat frame = cv::imread(folder + label.file);
     ASSERT_FALSE(frame.empty()) << label.file;
     LineDetection d;

@@ -5,46 +5,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <fstream>
-#include <map>
 #include <opencv2/imgcodecs.hpp>
-#include <sstream>
 
 #include "common/angles.h"
 #include "perception/line_estimator.h"
+#include "support/exit_labels.h"
 
 namespace agv::perception {
 namespace {
 
 const std::string kDir = std::string(AGV_SHARED_DIR) + "/data/real/rcj_black_tape_topdown/";
-
-struct Label {
-  std::string kind;
-  std::map<std::string, double> exits;  // side -> pixel along that border
-};
-
-std::map<std::string, Label> read_labels() {
-  std::map<std::string, Label> labels;
-  std::ifstream in(kDir + "labels.csv");
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::stringstream fields(line);
-    std::string file, kind, exits;
-    std::getline(fields, file, ',');
-    std::getline(fields, kind, ',');
-    std::getline(fields, exits, ',');
-    Label label{kind, {}};
-    std::stringstream parts(exits);
-    std::string part;
-    while (std::getline(parts, part, ';')) {
-      const size_t colon = part.find(':');
-      label.exits[part.substr(0, colon)] = std::stod(part.substr(colon + 1));
-    }
-    labels[file] = label;
-  }
-  return labels;
-}
 
 CameraModel rcj_camera() {
   CameraIntrinsics in;
@@ -91,13 +61,14 @@ std::optional<double> exit_pixel(const LineDetection& d, const DetectedLine& lin
 class RealTapeFrames : public ::testing::TestWithParam<double> {};
 
 TEST_P(RealTapeFrames, LinesBranchesAndExitsMatchTheLabels) {
-  const std::map<std::string, Label> labels = read_labels();
+  const std::vector<ExitLabel> labels = read_exit_labels(kDir + "labels.csv");
   ASSERT_EQ(labels.size(), 6u) << "labels.csv not found or changed: " << kDir;
   const CameraModel camera = rcj_camera();
   LineEstimator::Options options;
   options.tape.width_m = GetParam();  // colour and polarity found from the image
   const LineEstimator estimator(camera, options);
-  for (const auto& [file, label] : labels) {
+  for (const ExitLabel& label : labels) {
+    const std::string& file = label.file;
     const cv::Mat frame = cv::imread(kDir + file);
     ASSERT_FALSE(frame.empty()) << file;
     LineDetection d;

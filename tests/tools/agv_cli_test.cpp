@@ -215,9 +215,9 @@ TEST_F(AgvCli, TheSummaryLineSaysWhatHappened) {
 }
 
 // README.md and the dataset READMEs quote what the program prints today (regenerate with
-// tools/readme_figures.sh): the default run's summary line, and each sample dataset's replay
-// line without its time per frame. A change of behaviour that moves a figure fails here until
-// the README says so.
+// tools/readme_figures.sh): the default run's summary line, and each sample dataset's and each
+// datasets/lines folder's replay line without its time per frame. A change of behaviour that moves
+// a figure fails here until the README says so.
 TEST_F(AgvCli, ReadmesQuoteWhatTheProgramPrintsToday) {
   auto first_line = [](const std::string& text) { return text.substr(0, text.find('\n')); };
   auto file_text = [](const fs::path& file) {
@@ -230,17 +230,23 @@ TEST_F(AgvCli, ReadmesQuoteWhatTheProgramPrintsToday) {
   const std::string line = first_line(simulate.output);
   EXPECT_NE(file_text(source / "README.md").find(line), std::string::npos)
       << "README.md does not quote: " << line;
+  // A folder's README quotes the first line `agv replay OPTIONS FOLDER` prints, less the time per
+  // frame.
+  auto expect_replay_quoted = [&](const fs::path& folder, const std::string& options,
+                                  const std::string& out) {
+    const Result replay =
+        run("replay --quiet --no-video " + options + folder.string() + " --out " + path(out));
+    ASSERT_EQ(replay.exit_code, 0) << replay.output;
+    std::string printed = first_line(replay.output);
+    printed = printed.substr(0, printed.rfind(" | "));  // without the time per frame
+    EXPECT_NE(file_text(folder / "README.md").find(printed), std::string::npos)
+        << folder.filename() << "/README.md does not quote: " << printed;
+  };
   int datasets = 0;
   for (const auto& entry : fs::directory_iterator(source / "datasets")) {
     if (!fs::exists(entry.path() / "manifest.csv")) continue;
     ++datasets;
-    const Result replay = run("replay --quiet --no-video " + entry.path().string() + " --out " +
-                              path(entry.path().filename().string()));
-    ASSERT_EQ(replay.exit_code, 0) << replay.output;
-    std::string printed = first_line(replay.output);
-    printed = printed.substr(0, printed.rfind(" | "));  // without the time per frame
-    EXPECT_NE(file_text(entry.path() / "README.md").find(printed), std::string::npos)
-        << entry.path().filename() << "/README.md does not quote: " << printed;
+    expect_replay_quoted(entry.path(), "", entry.path().filename().string());
   }
   EXPECT_EQ(datasets, 3);
   // Real frames in bare folders (datasets/lines/*), replayed one second apart, every frame
@@ -248,14 +254,8 @@ TEST_F(AgvCli, ReadmesQuoteWhatTheProgramPrintsToday) {
   int folders = 0;
   for (const auto& entry : fs::directory_iterator(source / "datasets" / "lines")) {
     ++folders;
-    const Result replay =
-        run("replay --quiet --no-video --fps 1 --no-tracking " + entry.path().string() + " --out " +
-            path("lines_" + entry.path().filename().string()));
-    ASSERT_EQ(replay.exit_code, 0) << replay.output;
-    std::string printed = first_line(replay.output);
-    printed = printed.substr(0, printed.rfind(" | "));
-    EXPECT_NE(file_text(entry.path() / "README.md").find(printed), std::string::npos)
-        << entry.path().filename() << "/README.md does not quote: " << printed;
+    expect_replay_quoted(entry.path(), "--fps 1 --no-tracking ",
+                         "lines_" + entry.path().filename().string());
   }
   EXPECT_EQ(folders, 2);
 }
