@@ -13,6 +13,7 @@
 #include <ostream>
 #include <tuple>
 
+#include "common/statistics.h"
 #include "perception/camera_file.h"
 #include "perception/line_estimator.h"
 #include "support/exit_labels.h"
@@ -127,9 +128,7 @@ TEST_P(RealLineFrames, LinesMatchTheLabelsWithNoWidthGiven) {
   // nominal camera's scale error is common to them; its tilt, unknown, is not: a few per cent
   // between tape near the image's top and bottom).
   ASSERT_FALSE(widths_m.empty());
-  std::vector<double> sorted = widths_m;
-  std::sort(sorted.begin(), sorted.end());
-  const double median_m = sorted[sorted.size() / 2];
+  const double median_m = percentile(widths_m, 0.5);
   for (double w : widths_m) EXPECT_NEAR(w, median_m, 0.1 * median_m);
 }
 
